@@ -1,0 +1,333 @@
+"""Line kernels: segment tension and damping, node loads (weight, buoyancy, Morison drag and fluid
+inertia, seabed contact and friction), node mass and acceleration.
+
+Equations of the spec (shared/spec, sections 3.1-3.9 and 3.12). Kernels read node kinematics
+from ``W.r``, ``W.v`` (end nodes already copied from their attachments) and write every result
+into the :class:`~moorline.core.layout.Work` arrays.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+_EPS = 1e-12
+
+
+@njit(cache=True)
+def table_interp(x, y, start, n, v):
+    """Piecewise-linear interpolation in ``x[start:start+n]``, clamped at both ends."""
+    if v <= x[start]:
+        return y[start]
+    last = start + n - 1
+    if v >= x[last]:
+        return y[last]
+    lo = start
+    hi = last
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if x[mid] <= v:
+            lo = mid
+        else:
+            hi = mid
+    f = (v - x[lo]) / (x[hi] - x[lo])
+    return y[lo] + f * (y[hi] - y[lo])
+
+
+@njit(cache=True)
+def segment_wet_fraction(ra, rb, zeta_a, zeta_b, d):
+    """Submerged fraction of a segment between points ``ra`` and ``rb`` (spec 3.6)."""
+    zs = 0.5 * (zeta_a + zeta_b)
+    za = ra[2] - zs
+    zb = rb[2] - zs
+    if za <= 0.0 and zb <= 0.0:
+        return 1.0
+    if za >= 0.0 and zb >= 0.0:
+        return 0.0
+    # the segment pierces the surface: widen it by d/2 normal to its axis in the vertical plane
+    sx = rb[0] - ra[0]
+    sy = rb[1] - ra[1]
+    sz = rb[2] - ra[2]
+    # n parallel to s x (z x s) = z |s|^2 - s (s . z)
+    ss = sx * sx + sy * sy + sz * sz
+    nx = -sx * sz
+    ny = -sy * sz
+    nz = ss - sz * sz
+    nn = math.sqrt(nx * nx + ny * ny + nz * nz)
+    nzu = nz / nn if nn > 0.0 else 0.0
+    if za < zb:
+        zlow = za - 0.5 * d * nzu
+        zup = zb + 0.5 * d * nzu
+    else:
+        zlow = zb - 0.5 * d * nzu
+        zup = za + 0.5 * d * nzu
+    return -zlow / (-zlow + zup)
+
+
+@njit(cache=True)
+def line_forces(li, L, E, W, cd_scale):
+    """Evaluate every load of line ``li`` and the accelerations of its internal nodes.
+
+    Parameters
+    ----------
+    li : int
+        Line index.
+    L, E, W : LineArrays, EnvArrays, Work
+    cd_scale : float
+        Drag multiplier (1, or CdScaleIC during dynamic relaxation).
+    """
+    n0 = L.node_ptr[li]
+    N = L.node_ptr[li + 1] - n0 - 1
+    s0 = L.seg_ptr[li]
+    d = L.d[li]
+    A = L.A[li]
+    w = L.w[li]
+    rho = E.rho
+    g = E.g
+    Cd = L.Cd[li] * cd_scale
+    CdAx = L.CdAx[li] * cd_scale
+    Ca = L.Ca[li]
+    CaAx = L.CaAx[li]
+    ea0 = L.ea_tab[li, 0]
+    ean = L.ea_tab[li, 1]
+    ba0 = L.ba_tab[li, 0]
+    ban = L.ba_tab[li, 1]
+    r = W.r
+    v = W.v
+
+    # ---- segments: length, direction, strain, tension, damping, submergence
+    for k in range(N):
+        s = s0 + k
+        a = n0 + k
+        b = a + 1
+        dx = r[b, 0] - r[a, 0]
+        dy = r[b, 1] - r[a, 1]
+        dz = r[b, 2] - r[a, 2]
+        ls = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if ls > 0.0:
+            ex = dx / ls
+            ey = dy / ls
+            ez = dz / ls
+        else:
+            ex = 0.0
+            ey = 0.0
+            ez = 0.0
+        ldot = ex * (v[b, 0] - v[a, 0]) + ey * (v[b, 1] - v[a, 1]) + ez * (v[b, 2] - v[a, 2])
+        l0 = L.seg_l0[s]
+        strain = ls / l0 - 1.0
+        if strain > 0.0:
+            if ean > 0:
+                Tm = table_interp(L.tab_x, L.tab_y, ea0, ean, strain)
+            else:
+                Tm = L.seg_EA[s] * strain
+        else:
+            Tm = 0.0
+        rate = ldot / l0
+        if ban > 0:
+            if L.tab_x[ba0] < 0.0:
+                Dm = table_interp(L.tab_x, L.tab_y, ba0, ban, rate)
+            else:
+                Dm = table_interp(L.tab_x, L.tab_y, ba0, ban, abs(rate))
+                if rate < 0.0:
+                    Dm = -Dm
+        else:
+            Dm = L.seg_BA[s] * rate
+        W.T[s, 0] = Tm * ex
+        W.T[s, 1] = Tm * ey
+        W.T[s, 2] = Tm * ez
+        W.Td[s, 0] = Dm * ex
+        W.Td[s, 1] = Dm * ey
+        W.Td[s, 2] = Dm * ez
+        W.seg_len[s] = ls
+        W.seg_ldot[s] = ldot
+        W.seg_F[s] = segment_wet_fraction(r[a], r[b], W.zeta[a], W.zeta[b], d)
+
+    # ---- nodes
+    zbed = -E.depth
+    for i in range(N + 1):
+        n = n0 + i
+        # tangent
+        if i == 0:
+            ia = n
+            ib = n + 1
+        elif i == N:
+            ia = n - 1
+            ib = n
+        else:
+            ia = n - 1
+            ib = n + 1
+        qx = r[ib, 0] - r[ia, 0]
+        qy = r[ib, 1] - r[ia, 1]
+        qz = r[ib, 2] - r[ia, 2]
+        qn = math.sqrt(qx * qx + qy * qy + qz * qz)
+        if qn > 0.0:
+            qx /= qn
+            qy /= qn
+            qz /= qn
+        W.q[n, 0] = qx
+        W.q[n, 1] = qy
+        W.q[n, 2] = qz
+
+        # lengths: unstretched nodal length and submerged nodal length
+        lam = 0.0
+        lamw = 0.0
+        if i > 0:
+            lL = L.seg_l0[s0 + i - 1]
+            lam += 0.5 * lL
+            lamw += 0.5 * lL * W.seg_F[s0 + i - 1]
+        if i < N:
+            lR = L.seg_l0[s0 + i]
+            lam += 0.5 * lR
+            lamw += 0.5 * lR * W.seg_F[s0 + i]
+        m = w * lam
+        vol = A * lamw
+
+        # internal forces
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        if i < N:
+            s = s0 + i
+            fx += W.T[s, 0] + W.Td[s, 0]
+            fy += W.T[s, 1] + W.Td[s, 1]
+            fz += W.T[s, 2] + W.Td[s, 2]
+        if i > 0:
+            s = s0 + i - 1
+            fx -= W.T[s, 0] + W.Td[s, 0]
+            fy -= W.T[s, 1] + W.Td[s, 1]
+            fz -= W.T[s, 2] + W.Td[s, 2]
+
+        # weight and buoyancy
+        wz = -g * (m - rho * vol)
+        W.W[n, 0] = 0.0
+        W.W[n, 1] = 0.0
+        W.W[n, 2] = wz
+
+        # Morison drag on the relative velocity, split along the tangent
+        ux = W.U[n, 0] - v[n, 0]
+        uy = W.U[n, 1] - v[n, 1]
+        uz = W.U[n, 2] - v[n, 2]
+        uq = ux * qx + uy * qy + uz * qz
+        uqx = uq * qx
+        uqy = uq * qy
+        uqz = uq * qz
+        upx = ux - uqx
+        upy = uy - uqy
+        upz = uz - uqz
+        upm = math.sqrt(upx * upx + upy * upy + upz * upz)
+        cp = 0.5 * rho * Cd * d * lamw * upm
+        cq = 0.5 * rho * CdAx * math.pi * d * lamw * abs(uq)
+        # fluid inertia (Froude-Krylov + added mass of the fluid acceleration)
+        aq = W.Ud[n, 0] * qx + W.Ud[n, 1] * qy + W.Ud[n, 2] * qz
+        ip = rho * (1.0 + Ca) * vol
+        iq = rho * (1.0 + CaAx) * vol
+        hx = cp * upx + cq * uqx + ip * (W.Ud[n, 0] - aq * qx) + iq * aq * qx
+        hy = cp * upy + cq * uqy + ip * (W.Ud[n, 1] - aq * qy) + iq * aq * qy
+        hz = cp * upz + cq * uqz + ip * (W.Ud[n, 2] - aq * qz) + iq * aq * qz
+        W.Fhyd[n, 0] = hx
+        W.Fhyd[n, 1] = hy
+        W.Fhyd[n, 2] = hz
+
+        # seabed contact (vertical, flat bed) and MoorDyn-C isotropic friction
+        bx = 0.0
+        by = 0.0
+        bz = 0.0
+        if r[n, 2] < zbed:
+            bz = ((zbed - r[n, 2]) * E.kBot - v[n, 2] * E.cBot) * d * lam
+            if E.mu > 0.0:
+                vh = math.sqrt(v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
+                if vh > 0.0:
+                    nrm = abs(bz)
+                    flin = E.mu * E.fric_damp * vh
+                    ff = flin if flin <= E.stat_dyn * E.mu * nrm else E.mu * nrm
+                    bx = -ff * v[n, 0] / vh
+                    by = -ff * v[n, 1] / vh
+        W.Fbed[n, 0] = bx
+        W.Fbed[n, 1] = by
+        W.Fbed[n, 2] = bz
+
+        fx += hx + bx
+        fy += hy + by
+        fz += wz + hz + bz
+        W.F[n, 0] = fx
+        W.F[n, 1] = fy
+        W.F[n, 2] = fz
+
+        ma = rho * vol * Ca
+        mq = rho * vol * CaAx
+        W.mass[n, 0] = m
+        W.mass[n, 1] = ma
+        W.mass[n, 2] = mq
+        if 0 < i < N:
+            # closed-form inverse of m I + ma (I - q q^T) + mq q q^T
+            fq = fx * qx + fy * qy + fz * qz
+            ip = 1.0 / (m + ma)
+            iq = 1.0 / (m + mq)
+            W.acc[n, 0] = (fx - fq * qx) * ip + fq * qx * iq
+            W.acc[n, 1] = (fy - fq * qy) * ip + fq * qy * iq
+            W.acc[n, 2] = (fz - fq * qz) * ip + fq * qz * iq
+        else:
+            W.acc[n, 0] = 0.0
+            W.acc[n, 1] = 0.0
+            W.acc[n, 2] = 0.0
+
+    # ---- geometric curvature at internal nodes (spec 3.10); zero at pinned ends
+    W.kurv[n0] = 0.0
+    W.kurv[n0 + N] = 0.0
+    for i in range(1, N):
+        sa = s0 + i - 1
+        sb = s0 + i
+        la = W.seg_len[sa]
+        lb = W.seg_len[sb]
+        if la <= 0.0 or lb <= 0.0:
+            W.kurv[n0 + i] = 0.0
+            continue
+        n = n0 + i
+        c = ((r[n, 0] - r[n - 1, 0]) * (r[n + 1, 0] - r[n, 0]) + (r[n, 1] - r[n - 1, 1]) * (r[n + 1, 1] - r[n, 1])
+             + (r[n, 2] - r[n - 1, 2]) * (r[n + 1, 2] - r[n, 2])) / (la * lb)
+        if c >= 1.0 - 2.220446049250313e-16:
+            W.kurv[n] = 0.0
+        else:
+            W.kurv[n] = 4.0 / (la + lb) * math.sqrt(0.5 * (1.0 - c))
+
+
+@njit(cache=True)
+def add_end_mass(M, p, m, ma, mq, q):
+    """Add a line end node's mass matrix m I + ma (I - q q^T) + mq q q^T to point ``p``."""
+    for a in range(3):
+        for b in range(3):
+            qq = q[a] * q[b]
+            val = (mq - ma) * qq
+            if a == b:
+                val += m + ma
+            M[p, a, b] += val
+
+
+@njit(cache=True)
+def solve3(M, f, out):
+    """Solve the 3x3 system M x = f (Cramer's rule) into ``out``; returns False if singular."""
+    a = M[0, 0]
+    b = M[0, 1]
+    c = M[0, 2]
+    d = M[1, 0]
+    e = M[1, 1]
+    ff = M[1, 2]
+    g = M[2, 0]
+    h = M[2, 1]
+    k = M[2, 2]
+    co0 = e * k - ff * h
+    co1 = ff * g - d * k
+    co2 = d * h - e * g
+    det = a * co0 + b * co1 + c * co2
+    if det == 0.0 or not np.isfinite(det):
+        out[0] = np.nan
+        out[1] = np.nan
+        out[2] = np.nan
+        return False
+    inv = 1.0 / det
+    out[0] = (co0 * f[0] + (c * h - b * k) * f[1] + (b * ff - c * e) * f[2]) * inv
+    out[1] = (co1 * f[0] + (a * k - c * g) * f[1] + (c * d - a * ff) * f[2]) * inv
+    out[2] = (co2 * f[0] + (b * g - a * h) * f[1] + (a * e - b * d) * f[2]) * inv
+    return True

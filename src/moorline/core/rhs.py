@@ -1,0 +1,155 @@
+"""The state derivative of the whole system: one compiled function, ``rhs``.
+
+Order of one evaluation (spec 3.16): coupled and free point kinematics; line end nodes copy their
+points; internal nodes from the state; line loads and internal-node accelerations; points collect
+the end forces and masses of their lines and solve their own equations.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .layout import ATT_POINT, P_COUPLED, P_FIXED, P_FREE
+from .lines import add_end_mass, line_forces, solve3
+
+
+@njit(cache=True)
+def motion_eval(Mo, t, x, v, a):
+    """Evaluate the coupled trajectory ``Mo`` at time ``t`` into x, v, a."""
+    nk = Mo.t.size
+    lo = 0
+    hi = nk - 1
+    # last knot <= t, clamped to a valid piece
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if Mo.t[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    k = lo
+    s = t - Mo.t[k]
+    for j in range(x.size):
+        c0 = Mo.c[k, j, 0]
+        c1 = Mo.c[k, j, 1]
+        c2 = Mo.c[k, j, 2]
+        c3 = Mo.c[k, j, 3]
+        x[j] = c0 + s * (c1 + s * (c2 + s * c3))
+        v[j] = c1 + s * (2.0 * c2 + 3.0 * s * c3)
+        a[j] = 2.0 * c2 + 6.0 * s * c3
+
+
+@njit(cache=True)
+def set_kinematics(t, y, L, P, Mo, W):
+    """Points and line nodes from the state ``y`` and the coupled trajectory at time ``t``."""
+    nrow = y.size // 6
+    uoff = 3 * nrow
+    if W.xc.size > 0:
+        motion_eval(Mo, t, W.xc, W.vc, W.ac)
+    for p in range(P.kind.size):
+        k = P.kind[p]
+        if k == P_FIXED:
+            for c in range(3):
+                W.pr[p, c] = P.r0[p, c]
+                W.pv[p, c] = 0.0
+                W.pa[p, c] = 0.0
+        elif k == P_COUPLED:
+            o = P.cpl[p]
+            for c in range(3):
+                W.pr[p, c] = W.xc[o + c]
+                W.pv[p, c] = W.vc[o + c]
+                W.pa[p, c] = W.ac[o + c]
+        elif k == P_FREE:
+            o = 3 * P.row[p]
+            for c in range(3):
+                W.pr[p, c] = y[o + c]
+                W.pv[p, c] = y[uoff + o + c]
+    nl = L.node_ptr.size - 1
+    for li in range(nl):
+        for j in range(2):
+            n = L.node_ptr[li] if j == 0 else L.node_ptr[li + 1] - 1
+            if L.end_kind[li, j] == ATT_POINT:
+                p = L.end_idx[li, j]
+                for c in range(3):
+                    W.r[n, c] = W.pr[p, c]
+                    W.v[n, c] = W.pv[p, c]
+        for n in range(L.node_ptr[li] + 1, L.node_ptr[li + 1] - 1):
+            o = 3 * L.node_row[n]
+            for c in range(3):
+                W.r[n, c] = y[o + c]
+                W.v[n, c] = y[uoff + o + c]
+
+
+@njit(cache=True)
+def point_loads(P, E, W, cd_scale, ftmp):
+    """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
+    for p in range(P.kind.size):
+        ux = W.pU[p, 0] - W.pv[p, 0]
+        uy = W.pU[p, 1] - W.pv[p, 1]
+        uz = W.pU[p, 2] - W.pv[p, 2]
+        um = math.sqrt(ux * ux + uy * uy + uz * uz)
+        cd = 0.5 * E.rho * P.CdA[p] * cd_scale * um
+        W.pF[p, 0] += P.F_ext[p, 0] + cd * ux
+        W.pF[p, 1] += P.F_ext[p, 1] + cd * uy
+        W.pF[p, 2] += P.F_ext[p, 2] + cd * uz + E.g * (E.rho * P.V[p] - P.m[p])
+        madd = P.m[p] + E.rho * P.Ca[p] * P.V[p]
+        for c in range(3):
+            W.pM[p, c, c] += madd
+        if P.kind[p] == P_FREE:
+            for c in range(3):
+                ftmp[c] = W.pF[p, c]
+            solve3(W.pM[p], ftmp, W.pa[p])
+
+
+@njit(cache=True)
+def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp):
+    """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    y, dy : ndarray (n_state,)
+        State ``[q | u]`` and its derivative ``[u | a]``.
+    L, P, E, Mo, W : LineArrays, PointArrays, EnvArrays, Motion, Work
+    cd_scale : float
+        Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
+    ftmp : ndarray (3,)
+        Scratch.
+    """
+    set_kinematics(t, y, L, P, Mo, W)
+    npnt = P.kind.size
+    for p in range(npnt):
+        for a in range(3):
+            W.pF[p, a] = 0.0
+            for b in range(3):
+                W.pM[p, a, b] = 0.0
+    nl = L.node_ptr.size - 1
+    for li in range(nl):
+        line_forces(li, L, E, W, cd_scale)
+        for j in range(2):
+            n = L.node_ptr[li] if j == 0 else L.node_ptr[li + 1] - 1
+            if L.end_kind[li, j] == ATT_POINT:
+                p = L.end_idx[li, j]
+                for c in range(3):
+                    W.pF[p, c] += W.F[n, c]
+                add_end_mass(W.pM, p, W.mass[n, 0], W.mass[n, 1], W.mass[n, 2], W.q[n])
+    point_loads(P, E, W, cd_scale, ftmp)
+
+    nrow = y.size // 6
+    uoff = 3 * nrow
+    for i in range(3 * nrow):
+        dy[i] = y[uoff + i]
+    for li in range(nl):
+        for n in range(L.node_ptr[li] + 1, L.node_ptr[li + 1] - 1):
+            o = uoff + 3 * L.node_row[n]
+            dy[o] = W.acc[n, 0]
+            dy[o + 1] = W.acc[n, 1]
+            dy[o + 2] = W.acc[n, 2]
+    for p in range(npnt):
+        if P.kind[p] == P_FREE:
+            o = uoff + 3 * P.row[p]
+            dy[o] = W.pa[p, 0]
+            dy[o + 1] = W.pa[p, 1]
+            dy[o + 2] = W.pa[p, 2]

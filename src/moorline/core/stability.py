@@ -1,0 +1,109 @@
+"""Time-step choice and the stability estimate (spec 5.4).
+
+MoorDyn picks ``dtM`` from the deck, or ``CFL`` times the smallest segment period
+``2 pi l sqrt(w/EA)``. It checks nothing else. moorline also estimates the fastest modes an
+explicit scheme must resolve (axial segment modes with the stiffest tangent EA, seabed contact
+damping, over-damped internal damping, light points between stiff lines) and reports the one that
+governs, with the largest stable ``dtM`` for the chosen scheme.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import Model
+from .integrate import STABLE_OMEGA_DT, Scheme
+from .layout import P_FREE, Layout
+
+
+@dataclass
+class Mode:
+    """A fast mode: where it is, what it is, and its rate [rad/s] (or decay rate [1/s])."""
+
+    where: str
+    kind: str
+    rate: float
+
+    def dt_limit(self, scheme: Scheme) -> float:
+        return STABLE_OMEGA_DT[scheme] / self.rate if self.rate > 0 else math.inf
+
+
+def segment_period(model: Model, layout: Layout, li: int) -> float:
+    """MoorDyn's segment period 2 pi l sqrt(w / EA_ref) of line ``li`` [s]."""
+    lt = model.line_types[model.lines[li].line_type]
+    l0 = layout.line_L[li] / layout.line_N[li]
+    return 2.0 * math.pi * l0 * math.sqrt(lt.w / lt.EA_ref)
+
+
+def choose_dtM(model: Model, layout: Layout) -> float:
+    """``dtM`` from the options, or CFL times the smallest segment period (MoorDyn's rule)."""
+    if model.options.dtM is not None and model.options.dtM > 0:
+        return float(model.options.dtM)
+    tmin = min(segment_period(model, layout, li) for li in range(len(model.lines)))
+    return float(model.options.CFL) * tmin
+
+
+def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None) -> list[Mode]:
+    """Every fast mode the explicit schemes must resolve.
+
+    Parameters
+    ----------
+    on_seabed : bool array (n_lines,), optional
+        Lines with at least one node in seabed contact (seabed modes are included for these;
+        all lines with an end at or below the seabed when not given).
+    """
+    modes: list[Mode] = []
+    E = layout.env
+    L = layout.lines
+    for li, ln in enumerate(model.lines):
+        lt = model.line_types[ln.line_type]
+        l0 = layout.line_L[li] / layout.line_N[li]
+        name = f"line {li + 1}"
+        modes.append(Mode(name, "axial segment mode", 2.0 / l0 * math.sqrt(lt.EA_max / lt.w)))
+        BA = float(L.seg_BA[L.seg_ptr[li]])
+        if BA > 0:
+            zeta = BA / (l0 * math.sqrt(lt.EA_ref * lt.w))
+            if zeta > 1.0:
+                modes.append(Mode(name, f"over-damped internal damping (zeta {zeta:.3g})",
+                                  4.0 * BA / (lt.w * l0 * l0)))
+        touches = bool(on_seabed[li]) if on_seabed is not None else None
+        if touches is None:
+            za = model.end_position(ln.end_a)[2]
+            zb = model.end_position(ln.end_b)[2]
+            touches = min(za, zb) <= -E.depth * (1.0 - 1e-5)
+        if touches:
+            modes.append(Mode(name, "seabed contact damping", E.cBot * lt.d / lt.w))
+            modes.append(Mode(name, "seabed contact stiffness", math.sqrt(E.kBot * lt.d / lt.w)))
+    # points between stiff lines: axial stiffness of the attached end segments on the point mass
+    P = layout.points
+    for p, pt in enumerate(model.points):
+        if P.kind[p] != P_FREE:
+            continue
+        k = 0.0
+        m = pt.m + E.rho * pt.Ca * pt.V
+        for li, ln in enumerate(model.lines):
+            lt = model.line_types[ln.line_type]
+            l0 = layout.line_L[li] / layout.line_N[li]
+            for att in (ln.end_a, ln.end_b):
+                if att.kind == "point" and att.index == p:
+                    k += lt.EA_max / l0
+                    m += 0.5 * lt.w * l0
+        if k > 0 and m > 0:
+            modes.append(Mode(f"point {p + 1}", "point on its lines", math.sqrt(k / m)))
+    return modes
+
+
+def stability_report(model: Model, layout: Layout, dtM: float, scheme: Scheme,
+                     on_seabed: np.ndarray | None = None) -> tuple[Mode, float, str]:
+    """The governing mode, the largest stable dtM [s] for ``scheme``, and a one-line report."""
+    modes = fast_modes(model, layout, on_seabed)
+    gov = max(modes, key=lambda m: m.rate)
+    limit = gov.dt_limit(scheme)
+    ratio = gov.rate * dtM
+    text = (f"dtM = {dtM:.4g} s ({scheme.name}); fastest mode: {gov.where}, {gov.kind}, "
+            f"rate {gov.rate:.4g} 1/s, rate*dtM = {ratio:.3g} (stable up to about "
+            f"{STABLE_OMEGA_DT[scheme]:.3g}, i.e. dtM <= {limit:.3g} s)")
+    return gov, limit, text

@@ -1,0 +1,428 @@
+"""The outer-program interface: :class:`System` with ``init(x, xd)`` and ``step(x, xd, t, dt)``.
+
+It mirrors MoorDyn's coupling API so that coupling scripts port by renaming::
+
+    sys = moorline.System.from_file("mooring.dat")      # MoorDyn_Create
+    f = sys.init(x, xd)                                  # MoorDyn_Init
+    f = sys.step(x, xd, t, dt)                           # MoorDyn_Step
+    sys.lines[0].fairlead_tension()                      # MoorDyn_GetLineFairTen
+
+``x`` and ``xd`` are the coupled degrees of freedom in MoorDyn's order: coupled points, 3 each,
+in point order (bodies and rods come with the cable work). Forces returned are the loads the
+mooring system exerts on the coupled objects [N].
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .core.integrate import advance, parse_scheme
+from .core.layout import Motion, P_FREE, build_layout, static_motion, step_motion
+from .core.rhs import rhs
+from .core.stability import choose_dtM, stability_report
+from .core.statics import catenary_start, dynamic_relaxation, stationary_solve
+from .errors import SimulationError
+from .model import Model
+
+log = logging.getLogger("moorline")
+
+#: node speed [m/s] above which a state is taken as unstable
+MAX_NODE_SPEED = 500.0
+
+
+class LineView:
+    """Read access to one line of a running :class:`System` (values of the last evaluation)."""
+
+    def __init__(self, system: System, index: int):
+        self._s = system
+        self.index = index
+        L = system.layout.lines
+        self._n = slice(int(L.node_ptr[index]), int(L.node_ptr[index + 1]))
+        self._g = slice(int(L.seg_ptr[index]), int(L.seg_ptr[index + 1]))
+
+    @property
+    def number(self) -> int:
+        """1-based line number, as in the deck."""
+        return self.index + 1
+
+    @property
+    def n_segments(self) -> int:
+        return self._g.stop - self._g.start
+
+    @property
+    def unstretched_length(self) -> float:
+        return float(self._s.layout.line_L[self.index])
+
+    @property
+    def line_type(self) -> str:
+        return self._s.layout.line_type_names[self.index]
+
+    def node_positions(self) -> np.ndarray:
+        """Node positions [m], shape (N+1, 3), node 0 = end A."""
+        return self._s.work.r[self._n].copy()
+
+    def node_velocities(self) -> np.ndarray:
+        """Node velocities [m/s], shape (N+1, 3)."""
+        return self._s.work.v[self._n].copy()
+
+    def node_forces(self) -> np.ndarray:
+        """Net force on each node [N], shape (N+1, 3) (all loads, spec 3.12)."""
+        return self._s.work.F[self._n].copy()
+
+    def node_curvatures(self) -> np.ndarray:
+        """Curvature at each node [1/m], shape (N+1,); zero at pinned ends."""
+        return self._s.work.kurv[self._n].copy()
+
+    def segment_tension_vectors(self) -> np.ndarray:
+        """Tension plus internal damping force of each segment [N], shape (N, 3), from node k to k+1."""
+        w = self._s.work
+        return w.T[self._g] + w.Td[self._g]
+
+    def segment_tensions(self) -> np.ndarray:
+        """|T + Td| of each segment [N], shape (N,)."""
+        return np.linalg.norm(self.segment_tension_vectors(), axis=1)
+
+    def segment_strains(self) -> np.ndarray:
+        """Strain l_s/l - 1 of each segment [-], shape (N,)."""
+        w = self._s.work
+        return w.seg_len[self._g] / self._s.layout.lines.seg_l0[self._g] - 1.0
+
+    def node_water_velocities(self) -> np.ndarray:
+        """Water velocity (waves + current) at each node [m/s], shape (N+1, 3)."""
+        return self._s.work.U[self._n].copy()
+
+    def node_hydro_forces(self) -> np.ndarray:
+        """Drag plus fluid-inertia force on each node [N], shape (N+1, 3)."""
+        return self._s.work.Fhyd[self._n].copy()
+
+    def node_seabed_forces(self) -> np.ndarray:
+        """Seabed contact plus friction force on each node [N], shape (N+1, 3)."""
+        return self._s.work.Fbed[self._n].copy()
+
+    def segment_elastic_tensions(self) -> np.ndarray:
+        """Magnitude of the elastic tension of each segment, damping excluded [N], shape (N,)."""
+        return np.linalg.norm(self._s.work.T[self._g], axis=1)
+
+    def segment_damping_forces(self) -> np.ndarray:
+        """Internal damping force vector of each segment [N], shape (N, 3)."""
+        return self._s.work.Td[self._g].copy()
+
+    def segment_strain_rates(self) -> np.ndarray:
+        """Strain rate (dl_s/dt)/l of each segment [1/s], shape (N,)."""
+        w = self._s.work
+        return w.seg_ldot[self._g] / self._s.layout.lines.seg_l0[self._g]
+
+    def node_tensions(self) -> np.ndarray:
+        """MoorDyn's node tension [N], shape (N+1,): the mean of the two adjacent segment forces at
+        internal nodes, the end segment's force at the ends (MoorDyn's GetLineNodeTen)."""
+        sv = self.segment_tension_vectors()
+        out = np.empty(len(sv) + 1)
+        out[0] = np.linalg.norm(sv[0])
+        out[-1] = np.linalg.norm(sv[-1])
+        out[1:-1] = np.linalg.norm(0.5 * (sv[:-1] + sv[1:]), axis=1)
+        return out
+
+    def fairlead_tension(self) -> float:
+        """|T + Td| of the end-B segment [N] (MoorDyn's GetLineFairTen)."""
+        return float(np.linalg.norm(self.segment_tension_vectors()[-1]))
+
+    def anchor_tension(self) -> float:
+        """|T + Td| of the end-A segment [N]."""
+        return float(np.linalg.norm(self.segment_tension_vectors()[0]))
+
+    def end_force(self, end: str) -> np.ndarray:
+        """Net force on the end node (``'A'`` or ``'B'``) [N]: what MoorDyn's FairTen/AnchTen report."""
+        w = self._s.work
+        return w.F[self._n.start if end.upper() == "A" else self._n.stop - 1].copy()
+
+
+class PointView:
+    """Read access to one point of a running :class:`System`."""
+
+    def __init__(self, system: System, index: int):
+        self._s = system
+        self.index = index
+
+    @property
+    def number(self) -> int:
+        return self.index + 1
+
+    @property
+    def kind(self):
+        return self._s.model.points[self.index].kind
+
+    def position(self) -> np.ndarray:
+        return self._s.work.pr[self.index].copy()
+
+    def velocity(self) -> np.ndarray:
+        return self._s.work.pv[self.index].copy()
+
+    def acceleration(self) -> np.ndarray:
+        return self._s.work.pa[self.index].copy()
+
+    def force(self) -> np.ndarray:
+        """Net force on the point [N]: attached line ends, weight, buoyancy, drag, external force."""
+        return self._s.work.pF[self.index].copy()
+
+
+class System:
+    """A mooring system ready to integrate.
+
+    Parameters
+    ----------
+    model : Model
+        The description (from :func:`moorline.io.read_deck` or built in Python).
+    dtM : float, optional
+        Internal time step [s]; default from the model options (``dtM`` or ``CFL``).
+    scheme : str, optional
+        Time scheme name (Euler, RK2, RK4); default the model's ``tScheme``.
+    """
+
+    def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None):
+        self.model = model
+        self.layout = build_layout(model)
+        self.scheme = parse_scheme(scheme if scheme is not None else model.options.tScheme)
+        self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
+        if not self.dtM > 0:
+            raise ValueError(f"dtM must be > 0, got {self.dtM}")
+        self.work = self.layout.new_work()
+        n = self.layout.n_state
+        self.y = np.zeros(n)
+        self._S = np.zeros((5, n))
+        self._ftmp = np.zeros(3)
+        self.t = 0.0
+        self._motion = static_motion(self.deck_coupled_positions())
+        self.lines = [LineView(self, i) for i in range(len(model.lines))]
+        self.points = [PointView(self, i) for i in range(len(model.points))]
+        self.initialized = False
+        self.ic_report: dict = {}
+        self._xd_prev = np.zeros(self.n_coupled_dof)
+
+    @classmethod
+    def from_file(cls, path, **kwargs) -> System:
+        """Read a MoorDyn v2 deck (see :func:`moorline.io.read_deck`)."""
+        from .io import read_deck
+
+        return cls(read_deck(Path(path)), **kwargs)
+
+    # ------------------------------------------------------------------ coupled DOFs
+    @property
+    def n_coupled_dof(self) -> int:
+        """Number of coupled degrees of freedom (3 per coupled point)."""
+        return self.layout.n_coupled_dof
+
+    @property
+    def coupled_dof_labels(self) -> list[str]:
+        """Labels of the coupled DOFs in order, e.g. ``['P4_x', 'P4_y', 'P4_z', ...]``."""
+        return [f"P{p + 1}_{c}" for p in self.layout.coupled_points for c in "xyz"]
+
+    def deck_coupled_positions(self) -> np.ndarray:
+        """Coupled DOF vector with every coupled object where the deck puts it."""
+        P = self.layout.points
+        return np.concatenate([P.r0[p] for p in self.layout.coupled_points]) if self.layout.coupled_points \
+            else np.zeros(0)
+
+    def _check_dof(self, x, name):
+        if x is None:
+            return None
+        x = np.asarray(x, dtype=float).ravel()
+        if x.size != self.n_coupled_dof:
+            raise ValueError(f"{name} has {x.size} values; the system has {self.n_coupled_dof} coupled DOF "
+                             f"({', '.join(self.coupled_dof_labels) or 'none'})")
+        return x
+
+    # ------------------------------------------------------------------ evaluation
+    def _evaluate(self, cd_scale: float = 1.0) -> None:
+        """Evaluate every load at the current state and time (refreshes what the views report)."""
+        dy = self._S[0]
+        L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
+        rhs(self.t, self.y, dy, L, P, E, self._motion, W, cd_scale, self._ftmp)
+
+    def coupled_forces(self) -> np.ndarray:
+        """Loads of the mooring system on the coupled DOFs [N], in coupled-DOF order."""
+        if not self.layout.coupled_points:
+            return np.zeros(0)
+        return np.concatenate([self.work.pF[p] for p in self.layout.coupled_points])
+
+    def state_velocity_norm(self) -> float:
+        return float(np.max(np.abs(self.y[self.y.size // 2:]))) if self.y.size else 0.0
+
+    # ------------------------------------------------------------------ init
+    def init(self, x=None, xd=None, *, solve_ic: bool = True) -> np.ndarray:
+        """Place coupled objects at ``x``, start every line on its catenary and (with
+        ``solve_ic``) find the initial equilibrium with the deck's IC settings; time is reset to 0.
+
+        Parameters
+        ----------
+        x, xd : array_like (n_coupled_dof,), optional
+            Coupled positions [m] and velocities [m/s]; default: the deck positions, at rest.
+        solve_ic : bool
+            False starts from the catenary profile as MoorDyn's Init_NoIC does.
+
+        Returns
+        -------
+        ndarray (n_coupled_dof,)
+            Forces on the coupled DOFs [N].
+        """
+        x = self._check_dof(x, "x")
+        if x is None:
+            x = self.deck_coupled_positions()
+        xd = self._check_dof(xd, "xd")
+        self._xd_prev = np.zeros(self.n_coupled_dof) if xd is None else xd.copy()
+        self.t = 0.0
+        self._motion = static_motion(x)
+        failed = catenary_start(self.layout, x, self.y)
+        for li in failed:
+            log.warning("line %d: catenary solve unsuccessful; starting from the straight chord", li + 1)
+        self.ic_report = {"catenary_failed": [li + 1 for li in failed]}
+        opts = self.model.options
+        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows > 0:
+            self._solve_ic()
+        if xd is not None:
+            self._motion = step_motion(x, xd, 0.0, 1.0)
+        self.t = 0.0
+        self._evaluate()
+        self._report_stability()
+        self.initialized = True
+        return self.coupled_forces()
+
+    def _solve_ic(self) -> None:
+        opts = self.model.options
+        L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
+        if opts.ICgenDynamic:
+            ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), opts.dtIC, opts.TmaxIC,
+                                              opts.threshIC, opts.CdScaleIC, L, P, E, self._motion, W,
+                                              self._S, self._ftmp, MAX_NODE_SPEED)
+            if bad >= 0:
+                raise self._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
+            self.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))
+        else:
+            seg_min = float(np.min(L.seg_l0))
+            cfl_ic = min(float(opts.CFL), 1.0)
+            ok, tic, emean, it = stationary_solve(self.y, self.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
+                                                  cfl_ic, seg_min, L, P, E, self._motion, W, self._S,
+                                                  self._ftmp)
+            if not np.all(np.isfinite(self.y)):
+                raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
+                                      "try ICgenDynamic 1 or a smaller dtM", time=0.0)
+            self.ic_report.update(method="stationary", converged=bool(ok), pseudo_time=float(tic),
+                                  iterations=int(it), mean_acceleration=float(emean))
+        if self.ic_report["converged"]:
+            log.info("initial conditions converged (%s) after %.4g s of pseudo time",
+                     self.ic_report["method"], self.ic_report["pseudo_time"])
+        else:
+            log.warning("initial conditions did NOT converge (%s) within TmaxIC = %.4g s; the dynamics "
+                        "start from the last iterate", self.ic_report["method"], opts.TmaxIC)
+
+    def _report_stability(self) -> None:
+        zbed = -self.layout.env.depth
+        L = self.layout.lines
+        on_bed = np.array([np.any(self.work.r[L.node_ptr[i]:L.node_ptr[i + 1], 2] <= zbed)
+                           for i in range(len(self.lines))])
+        gov, limit, text = stability_report(self.model, self.layout, self.dtM, self.scheme, on_bed)
+        self.stability = {"governing": gov.where, "mode": gov.kind, "rate": gov.rate,
+                          "dtM_limit": limit, "text": text}
+        if self.dtM > limit:
+            log.warning("%s: dtM is likely unstable", text)
+        else:
+            log.info(text)
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, x, xd, t: float, dt: float) -> np.ndarray:
+        """Advance from ``t`` to ``t + dt`` with the coupled DOFs at ``x + xd (tau - t)``.
+
+        Returns the forces on the coupled DOFs at the end of the step [N]. With ``dt <= 0``
+        nothing is integrated and the current forces are returned.
+        """
+        if not self.initialized:
+            raise RuntimeError("call init() before step()")
+        x = self._check_dof(x, "x")
+        xd = self._check_dof(xd, "xd")
+        if x is None:
+            x = self.deck_coupled_positions()
+        if xd is None:
+            xd = np.zeros(self.n_coupled_dof)
+        self.t = float(t)
+        if dt <= 0:
+            self._motion = step_motion(x, xd, self.t, 0.0)
+            self._evaluate()
+            return self.coupled_forces()
+        self._advance(step_motion(x, xd, self.t, dt), self.t + dt)
+        self._xd_prev = xd.copy()
+        return self.coupled_forces()
+
+    def advance_to(self, t_end: float, motion: Motion) -> None:
+        """Integrate to ``t_end`` [s] following the coupled trajectory ``motion`` (compiled loop)."""
+        if not self.initialized:
+            raise RuntimeError("call init() before advancing")
+        self._advance(motion, float(t_end))
+
+    def _advance(self, motion: Motion, t_end: float) -> None:
+        self._motion = motion
+        L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
+        t, bad, _ = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, motion, W, 1.0, self._S,
+                            self._ftmp, MAX_NODE_SPEED)
+        self.t = t
+        if bad >= 0:
+            raise self._instability(t, int(bad), "")
+        self._evaluate()
+
+    # ------------------------------------------------------------------ state access
+    def state_rows(self) -> list[tuple[str, int, int]]:
+        """What each 3-vector state row is: ``('line', line number, node)`` or ``('point', number, 0)``."""
+        rows: list[tuple[str, int, int]] = [("", 0, 0)] * self.layout.n_rows
+        L = self.layout.lines
+        for li in range(len(self.lines)):
+            for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+                rows[int(L.node_row[n])] = ("line", li + 1, n - int(L.node_ptr[li]))
+        P = self.layout.points
+        for p in range(len(P.kind)):
+            if P.kind[p] == P_FREE:
+                rows[int(P.row[p])] = ("point", p + 1, 0)
+        return rows
+
+    def set_state(self, line_positions=None, line_velocities=None, point_positions=None,
+                  point_velocities=None) -> None:
+        """Overwrite the state: internal node positions/velocities of lines (lists of (N+1, 3) arrays,
+        ends ignored) and free point positions/velocities ((n_points, 3), non-free rows ignored).
+        Used to start from another program's initial state."""
+        L = self.layout.lines
+        nr = self.layout.n_rows
+        for arrs, off in ((line_positions, 0), (line_velocities, 3 * nr)):
+            if arrs is None:
+                continue
+            for li, a in enumerate(arrs):
+                a = np.asarray(a, dtype=float)
+                for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+                    row = int(L.node_row[n])
+                    self.y[off + 3 * row: off + 3 * row + 3] = a[n - int(L.node_ptr[li])]
+        P = self.layout.points
+        for arr, off in ((point_positions, 0), (point_velocities, 3 * nr)):
+            if arr is None:
+                continue
+            arr = np.asarray(arr, dtype=float)
+            for p in range(len(P.kind)):
+                if P.kind[p] == P_FREE:
+                    row = int(P.row[p])
+                    self.y[off + 3 * row: off + 3 * row + 3] = arr[p]
+        if self.initialized:
+            self._evaluate()
+
+    def _instability(self, t: float, row: int, context: str) -> SimulationError:
+        what, num, node = self.state_rows()[row]
+        nr = self.layout.n_rows
+        v = self.y[3 * nr + 3 * row: 3 * nr + 3 * row + 3]
+        speed = float(np.linalg.norm(v)) if np.all(np.isfinite(v)) else math.nan
+        _, limit, _ = stability_report(self.model, self.layout, self.dtM, self.scheme)
+        suggest = min(0.5 * self.dtM, 0.8 * limit)
+        where = f"line {num} node {node}" if what == "line" else f"point {num}"
+        reason = "non-finite state" if not math.isfinite(speed) else f"speed {speed:.3g} m/s > {MAX_NODE_SPEED} m/s"
+        msg = (f"simulation unstable at t = {t:.6g} s {context}: {where}: {reason}. "
+               f"dtM = {self.dtM:.4g} s with {self.scheme.name}; try dtM <= {suggest:.3g} s")
+        return SimulationError(msg, time=t, line=num if what == "line" else None,
+                               node=node if what == "line" else None, point=num if what == "point" else None,
+                               suggested_dtM=suggest)

@@ -1,0 +1,142 @@
+"""The :class:`Model`: a complete, validated description of a mooring system.
+
+A Model is what a deck says, as Python objects. It is built by the deck reader or by hand::
+
+    m = Model(env=Environment(depth=200.0))
+    m.add_line_type("chain", d=0.15, w=140.0, EA=1.2e9, BA=-0.8, Cd=2.4, Ca=1.0, CdAx=1.15, CaAx=0.5)
+    a = m.add_point("fixed", (800.0, 0.0, -200.0))
+    f = m.add_point("coupled", (40.0, 0.0, -15.0))
+    m.add_line("chain", a, f, L=850.0, N=40)
+
+The runtime object that integrates it is :class:`moorline.System`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .types import Attachment, Curve, Environment, Line, LineType, ModelError, Options, Point, PointKind
+
+_KIND_WORDS = {
+    "fixed": PointKind.FIXED,
+    "anchor": PointKind.FIXED,
+    "coupled": PointKind.COUPLED,
+    "vessel": PointKind.COUPLED,
+    "fairlead": PointKind.COUPLED,
+    "free": PointKind.FREE,
+    "connect": PointKind.FREE,
+}
+
+
+@dataclass
+class Model:
+    """Line types, points and lines, with the environment, options and output channels."""
+
+    line_types: dict[str, LineType] = field(default_factory=dict)
+    points: list[Point] = field(default_factory=list)
+    lines: list[Line] = field(default_factory=list)
+    env: Environment = field(default_factory=Environment)
+    options: Options = field(default_factory=Options)
+    #: main-file output channel names (the OUTPUTS section), as typed
+    outputs: list[str] = field(default_factory=list)
+    #: deck file this model was read from, if any
+    source: Path | None = None
+
+    # ------------------------------------------------------------------ builders
+    def add_line_type(self, name: str, *, d: float, w: float, EA, BA=0.0, EI=0.0, Cd=0.0, Ca=0.0,
+                      CdAx=0.0, CaAx=0.0, Cl=0.0, dF=0.0, cF=0.0) -> LineType:
+        """Add (or replace) a line type; see :class:`LineType` for the arguments."""
+        lt = LineType(name, float(d), float(w), _num_or_curve(EA), _num_or_curve(BA), _num_or_curve(EI),
+                      float(Cd), float(Ca), float(CdAx), float(CaAx), float(Cl), float(dF), float(cF))
+        self.line_types[name] = lt
+        return lt
+
+    def add_point(self, kind, r, *, m=0.0, V=0.0, CdA=0.0, Ca=0.0, F_ext=(0.0, 0.0, 0.0)) -> Attachment:
+        """Add a point and return the :class:`Attachment` that lines use to refer to it.
+
+        ``kind`` is a :class:`PointKind` or one of the words fixed/anchor, coupled/vessel/fairlead,
+        free/connect.
+        """
+        if isinstance(kind, str):
+            try:
+                kind = _KIND_WORDS[kind.lower()]
+            except KeyError:
+                raise ModelError(f"unknown point kind {kind!r}; expected one of {sorted(_KIND_WORDS)}") from None
+        self.points.append(Point(PointKind(kind), r, float(m), float(V), float(CdA), float(Ca), F_ext))
+        return Attachment("point", len(self.points) - 1)
+
+    def add_line(self, line_type: str, end_a: Attachment, end_b: Attachment, *, L: float, N: int,
+                 outputs: str = "") -> Line:
+        """Add a line from ``end_a`` (node 0) to ``end_b`` (node N)."""
+        line = Line(line_type, end_a, end_b, float(L), int(N), outputs)
+        self.lines.append(line)
+        return line
+
+    # ------------------------------------------------------------------ queries
+    def end_position(self, att: Attachment) -> np.ndarray:
+        """Initial position [m] of an attachment."""
+        if att.kind == "point":
+            return self.points[att.index].r.copy()
+        raise ModelError(f"attachment {att} is not supported by this version (rods come with cables)")
+
+    @property
+    def coupled_points(self) -> list[int]:
+        """Indices of coupled points, in point order (their 3 DOF each form the coupled vector)."""
+        return [i for i, p in enumerate(self.points) if p.kind == PointKind.COUPLED]
+
+    @property
+    def n_coupled_dof(self) -> int:
+        return 3 * len(self.coupled_points)
+
+    # ------------------------------------------------------------------ checks
+    def validate(self) -> None:
+        """Raise :class:`ModelError` naming the first inconsistency found."""
+        if not self.lines:
+            raise ModelError("the model has no lines")
+        for name, lt in self.line_types.items():
+            if lt.d <= 0:
+                raise ModelError(f"line type {name!r}: diameter must be > 0, got {lt.d}")
+            if lt.w <= 0:
+                raise ModelError(f"line type {name!r}: mass per length must be > 0, got {lt.w}")
+            if lt.EA_ref <= 0:
+                raise ModelError(f"line type {name!r}: EA must be > 0")
+            for c in ("Cd", "Ca", "CdAx", "CaAx"):
+                if getattr(lt, c) < 0:
+                    raise ModelError(f"line type {name!r}: {c} must be >= 0, got {getattr(lt, c)}")
+        for k, ln in enumerate(self.lines, 1):
+            if ln.line_type not in self.line_types:
+                raise ModelError(f"line {k}: unknown line type {ln.line_type!r}")
+            if ln.N < 1:
+                raise ModelError(f"line {k}: needs at least one segment, got {ln.N}")
+            if ln.L == 0:
+                raise ModelError(f"line {k}: unstretched length must not be zero")
+            for end, att in (("A", ln.end_a), ("B", ln.end_b)):
+                if att.kind != "point":
+                    raise ModelError(f"line {k} end {end}: attachment {att} is not supported by this version")
+                if not 0 <= att.index < len(self.points):
+                    raise ModelError(f"line {k} end {end}: no point {att.index + 1}")
+            if ln.end_a == ln.end_b:
+                raise ModelError(f"line {k}: both ends attached to {ln.end_a}")
+        attached = {a.index for ln in self.lines for a in (ln.end_a, ln.end_b)}
+        for i, p in enumerate(self.points):
+            if p.kind == PointKind.BODY:
+                raise ModelError(f"point {i + 1}: body-attached points need bodies (not supported yet)")
+            if p.kind == PointKind.FREE and i not in attached and p.m + self.env.rho * p.Ca * p.V <= 0:
+                raise ModelError(f"point {i + 1}: a free point with no mass and no lines cannot move")
+            if p.m < 0 or p.V < 0 or p.CdA < 0 or p.Ca < 0:
+                raise ModelError(f"point {i + 1}: mass, volume, CdA and Ca must be >= 0")
+        if self.env.rho <= 0 or self.env.g <= 0:
+            raise ModelError("rho and g must be > 0")
+        if self.env.depth < 0:
+            raise ModelError(f"water depth must be >= 0, got {self.env.depth}")
+
+
+def _num_or_curve(v):
+    if isinstance(v, Curve):
+        return v
+    if isinstance(v, tuple) and len(v) == 2:
+        return Curve(*v)
+    return float(v)

@@ -1,0 +1,253 @@
+"""Plain descriptions of line types, points, lines and the environment.
+
+Nothing here knows about numba or file formats; the deck reader (:mod:`moorline.io`) and the
+Python builders of :class:`moorline.model.Model` both produce these objects, and
+:mod:`moorline.core.layout` turns them into flat arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import IntEnum
+from pathlib import Path
+
+import numpy as np
+
+
+class ModelError(ValueError):
+    """An inconsistent or physically impossible model (raised by ``Model.validate``)."""
+
+
+@dataclass
+class Curve:
+    """A piecewise-linear lookup table, clamped at both ends (MoorDyn's curve files).
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,)
+        Abscissa (strictly increasing) and ordinate.
+    source : str, optional
+        Where the table came from (file name), for messages.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    source: str = ""
+
+    def __post_init__(self):
+        self.x = np.asarray(self.x, dtype=float).ravel()
+        self.y = np.asarray(self.y, dtype=float).ravel()
+        if self.x.shape != self.y.shape or self.x.size < 2:
+            raise ModelError(f"curve {self.source or ''}: needs at least two (x, y) pairs of equal length")
+        if np.any(np.diff(self.x) <= 0):
+            raise ModelError(f"curve {self.source or ''}: x values must be strictly increasing")
+
+    def __call__(self, x):
+        return np.interp(x, self.x, self.y)
+
+
+@dataclass
+class LineType:
+    """Cross-section properties of a line (one row of LINE TYPES).
+
+    Parameters
+    ----------
+    name : str
+    d : float
+        Volume-equivalent diameter [m].
+    w : float
+        Mass per unit length in air [kg/m].
+    EA : float or Curve
+        Axial stiffness [N], or a strain -> tension [N] table.
+    BA : float or Curve
+        Internal axial damping [N s]; a negative value ``-zeta`` is a damping ratio of the
+        highest axial segment mode. A table maps strain rate [1/s] to damping force [N].
+    EI : float or Curve
+        Bending stiffness [N m^2], or a curvature [1/m] -> bending moment [N m] table.
+    Cd, Ca, CdAx, CaAx : float
+        Transverse drag (area d*l), transverse added mass, tangential drag (area pi*d*l) and
+        tangential added-mass coefficients [-].
+    Cl, dF, cF : float
+        VIV lift coefficient and synchronisation band (MoorDyn columns 11-13).
+    """
+
+    name: str
+    d: float
+    w: float
+    EA: float | Curve
+    BA: float | Curve = 0.0
+    EI: float | Curve = 0.0
+    Cd: float = 0.0
+    Ca: float = 0.0
+    CdAx: float = 0.0
+    CaAx: float = 0.0
+    Cl: float = 0.0
+    dF: float = 0.0
+    cF: float = 0.0
+
+    @property
+    def A(self) -> float:
+        """Cross-section area pi d^2 / 4 [m^2]."""
+        return math.pi * self.d**2 / 4.0
+
+    @property
+    def EA_ref(self) -> float:
+        """Single stiffness number [N]: EA, or the secant through the last table point."""
+        if isinstance(self.EA, Curve):
+            return float(self.EA.y[-1] / self.EA.x[-1])
+        return float(self.EA)
+
+    @property
+    def EA_max(self) -> float:
+        """Largest tangent stiffness [N] (used by the stability estimate)."""
+        if isinstance(self.EA, Curve):
+            c = self.EA
+            slopes = np.diff(c.y) / np.diff(c.x)
+            first = c.y[0] / c.x[0] if c.x[0] > 0 else 0.0
+            return float(max(np.max(slopes), first, self.EA_ref))
+        return float(self.EA)
+
+    @property
+    def has_bending(self) -> bool:
+        return isinstance(self.EI, Curve) or float(self.EI) > 0.0
+
+
+class PointKind(IntEnum):
+    """How a point moves. Mirrored as integer constants in the kernels."""
+
+    FIXED = 0
+    COUPLED = 1
+    FREE = 2
+    BODY = 3
+
+
+@dataclass
+class Point:
+    """A point: anchor, fairlead, clump weight, buoy or line junction (one row of POINTS).
+
+    Parameters
+    ----------
+    kind : PointKind
+    r : array_like, shape (3,)
+        Position [m] (initial guess for free points).
+    m : float
+        Mass [kg].
+    V : float
+        Displaced volume [m^3] (always fully counted, as MoorDyn does).
+    CdA : float
+        Drag coefficient times area [m^2] (isotropic).
+    Ca : float
+        Added-mass coefficient [-] on ``rho * V``.
+    F_ext : array_like, shape (3,)
+        Constant external force [N].
+    body : int or None
+        Index of the body the point is fixed to (kind BODY).
+    """
+
+    kind: PointKind
+    r: np.ndarray
+    m: float = 0.0
+    V: float = 0.0
+    CdA: float = 0.0
+    Ca: float = 0.0
+    F_ext: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    body: int | None = None
+
+    def __post_init__(self):
+        self.kind = PointKind(self.kind)
+        self.r = np.asarray(self.r, dtype=float).reshape(3)
+        self.F_ext = np.asarray(self.F_ext, dtype=float).reshape(3)
+
+
+@dataclass(frozen=True)
+class Attachment:
+    """What a line end is attached to: a point (``kind='point'``) or a rod end.
+
+    ``index`` is 0-based; ``end`` is ``'A'`` or ``'B'`` for rods, ``None`` for points.
+    """
+
+    kind: str
+    index: int
+    end: str | None = None
+
+    def __str__(self):
+        if self.kind == "point":
+            return f"P{self.index + 1}"
+        return f"R{self.index + 1}{self.end}"
+
+
+@dataclass
+class Line:
+    """A line between two attachments (one row of LINES).
+
+    Parameters
+    ----------
+    line_type : str
+        Name of a :class:`LineType` of the model.
+    end_a, end_b : Attachment
+        End A (node 0) and end B (node N).
+    L : float
+        Unstretched length [m]; a negative value ``-f`` means f times the initial distance
+        between the two ends.
+    N : int
+        Number of segments.
+    outputs : str
+        MoorDyn per-line output flags (``p v U D V K c t s d b``).
+    """
+
+    line_type: str
+    end_a: Attachment
+    end_b: Attachment
+    L: float
+    N: int
+    outputs: str = ""
+
+
+@dataclass
+class Environment:
+    """Water, gravity and seabed.
+
+    Parameters
+    ----------
+    g : float
+        Gravity [m/s^2].
+    rho : float
+        Water density [kg/m^3].
+    depth : float
+        Still-water depth [m, positive]; the flat seabed is z = -depth.
+    kBot, cBot : float
+        Seabed contact stiffness [Pa/m] and damping [Pa s/m].
+    mu, fric_damp, stat_dyn : float
+        MoorDyn-C isotropic friction: coefficient, creep damping [N s/m], static/kinetic ratio.
+    """
+
+    g: float = 9.80665
+    rho: float = 1025.0
+    depth: float = 0.0
+    kBot: float = 3.0e6
+    cBot: float = 3.0e5
+    mu: float = 0.0
+    fric_damp: float = 200.0
+    stat_dyn: float = 1.0
+
+
+@dataclass
+class Options:
+    """Numerical settings (MoorDyn OPTIONS that are not physical constants)."""
+
+    dtM: float | None = None
+    CFL: float = 0.5
+    tScheme: str = "RK2"
+    dtIC: float = 1.0
+    TmaxIC: float = 120.0
+    CdScaleIC: float = 5.0
+    threshIC: float = 0.001
+    ICgenDynamic: int = 0
+    dtOut: float = 0.0
+    WriteUnits: int = 1
+    disableOutput: int = 0
+    writeLog: int = 0
+    #: options read from a deck that this version does not act on yet, {key: value text}
+    not_acted_on: dict[str, str] = field(default_factory=dict)
+

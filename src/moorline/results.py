@@ -1,0 +1,149 @@
+"""Simulation results as a labelled :class:`xarray.Dataset`, and its NetCDF writer.
+
+Dimensions: ``time``, ``node`` (all nodes of all lines), ``segment`` (all segments), ``line``,
+``point``, ``xyz`` and ``dof`` (coupled DOFs). Node and segment coordinates say which line they
+belong to, their index within it and their unstretched arc length from end A, so lines of
+different lengths share one Dataset: ``ds.node_position.where(ds.node_line == 2, drop=True)``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import __version__
+
+
+def model_hash(model) -> str:
+    """SHA-256 of the deck text (or of the model description when built in Python)."""
+    h = hashlib.sha256()
+    if model.source is not None and Path(model.source).exists():
+        h.update(Path(model.source).read_bytes())
+    else:
+        h.update(repr((model.line_types, model.points, model.lines, model.env, model.options)).encode())
+    return h.hexdigest()
+
+
+class Recorder:
+    """Collects the state of a :class:`~moorline.coupling.System` at output times.
+
+    Parameters
+    ----------
+    system : System
+    nodes : bool
+        Record node positions, velocities, tensions and curvatures (the bulk of the data).
+    """
+
+    def __init__(self, system, *, nodes: bool = True):
+        self.system = system
+        self.nodes = nodes
+        self.t: list[float] = []
+        self.data: dict[str, list] = {k: [] for k in (
+            "node_position", "node_velocity", "node_tension", "node_curvature", "segment_tension",
+            "segment_strain", "line_tension_a", "line_tension_b", "point_position", "point_velocity",
+            "point_force", "coupled_position", "coupled_force")}
+
+    def record(self) -> None:
+        s = self.system
+        w = s.work
+        self.t.append(s.t)
+        d = self.data
+        if self.nodes:
+            d["node_position"].append(w.r.copy())
+            d["node_velocity"].append(w.v.copy())
+            d["node_tension"].append(np.concatenate([ln.node_tensions() for ln in s.lines]))
+            d["node_curvature"].append(w.kurv.copy())
+        d["segment_tension"].append(np.linalg.norm(w.T + w.Td, axis=1))
+        d["segment_strain"].append(w.seg_len / s.layout.lines.seg_l0 - 1.0)
+        d["line_tension_a"].append([ln.anchor_tension() for ln in s.lines])
+        d["line_tension_b"].append([ln.fairlead_tension() for ln in s.lines])
+        d["point_position"].append(w.pr.copy())
+        d["point_velocity"].append(w.pv.copy())
+        d["point_force"].append(w.pF.copy())
+        d["coupled_position"].append(w.xc.copy())
+        d["coupled_force"].append(s.coupled_forces())
+
+    def to_dataset(self) -> xr.Dataset:
+        s = self.system
+        lay = s.layout
+        nl = len(s.lines)
+        node_line = np.repeat(np.arange(1, nl + 1), lay.line_N + 1)
+        node_index = np.concatenate([np.arange(n + 1) for n in lay.line_N])
+        node_s = np.concatenate([np.linspace(0.0, lay.line_L[i], lay.line_N[i] + 1) for i in range(nl)])
+        seg_line = np.repeat(np.arange(1, nl + 1), lay.line_N)
+        seg_index = np.concatenate([np.arange(1, n + 1) for n in lay.line_N])
+        seg_s = np.concatenate([(np.arange(lay.line_N[i]) + 0.5) * lay.line_L[i] / lay.line_N[i]
+                                for i in range(nl)])
+        d = {k: np.asarray(v) for k, v in self.data.items() if len(v)}
+        T = ("time",)
+        dv = {}
+
+        def add(name, dims, attrs):
+            if name in d:
+                dv[name] = (T + dims, d[name], attrs)
+
+        add("node_position", ("node", "xyz"), {"units": "m", "long_name": "node position"})
+        add("node_velocity", ("node", "xyz"), {"units": "m/s", "long_name": "node velocity"})
+        add("node_tension", ("node",), {"units": "N", "long_name": "node tension (mean of adjacent segments)"})
+        add("node_curvature", ("node",), {"units": "1/m", "long_name": "curvature"})
+        add("segment_tension", ("segment",), {"units": "N", "long_name": "segment tension incl. damping |T+Td|"})
+        add("segment_strain", ("segment",), {"units": "1", "long_name": "segment strain"})
+        add("line_tension_a", ("line",), {"units": "N", "long_name": "end-A segment tension |T+Td|"})
+        add("line_tension_b", ("line",), {"units": "N", "long_name": "end-B (fairlead) segment tension |T+Td|"})
+        add("point_position", ("point", "xyz"), {"units": "m"})
+        add("point_velocity", ("point", "xyz"), {"units": "m/s"})
+        add("point_force", ("point", "xyz"), {"units": "N", "long_name": "net force on the point"})
+        if s.n_coupled_dof:
+            add("coupled_position", ("dof",), {"units": "m"})
+            add("coupled_force", ("dof",), {"units": "N", "long_name": "load of the mooring on the coupled DOF"})
+        coords = {
+            "time": ("time", np.asarray(self.t), {"units": "s"}),
+            "xyz": ("xyz", ["x", "y", "z"]),
+            "line": ("line", np.arange(1, nl + 1)),
+            "point": ("point", np.arange(1, len(s.points) + 1)),
+            "node_line": ("node", node_line),
+            "node_index": ("node", node_index),
+            "node_s": ("node", node_s, {"units": "m", "long_name": "unstretched arc length from end A"}),
+            "segment_line": ("segment", seg_line),
+            "segment_index": ("segment", seg_index),
+            "segment_s": ("segment", seg_s, {"units": "m"}),
+            "line_type": ("line", np.array(lay.line_type_names, dtype=str)),
+            "point_kind": ("point", np.array([p.kind.name.lower() for p in s.model.points], dtype=str)),
+        }
+        if s.n_coupled_dof:
+            coords["dof"] = ("dof", s.coupled_dof_labels)
+        opts = asdict(s.model.options)
+        attrs = {
+            "title": f"moorline simulation of {s.model.source.name if s.model.source else 'a Python-built model'}",
+            "moorline_version": __version__,
+            "input_sha256": model_hash(s.model),
+            "source": str(s.model.source) if s.model.source else "",
+            "time_scheme": s.scheme.name,
+            "dtM": s.dtM,
+            "options": json.dumps(opts, default=str),
+            "environment": json.dumps(asdict(s.model.env)),
+            "ic": json.dumps(s.ic_report, default=str),
+        }
+        return xr.Dataset(dv, coords=coords, attrs=attrs)
+
+
+def write_netcdf(ds: xr.Dataset, path) -> Path:
+    """Write ``ds`` to ``path`` atomically (a temporary file renamed into place)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine="h5netcdf")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
