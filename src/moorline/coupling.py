@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .core.integrate import advance, parse_scheme
-from .core.layout import Motion, P_FREE, build_layout, static_motion, step_motion
+from .core.layout import P_FREE, Motion, build_layout, static_motion, step_motion
 from .core.rhs import rhs
 from .core.stability import choose_dtM, stability_report
 from .core.statics import catenary_start, dynamic_relaxation, stationary_solve
@@ -180,9 +180,22 @@ class System:
         Internal time step [s]; default from the model options (``dtM`` or ``CFL``).
     scheme : str, optional
         Time scheme name (Euler, RK2, RK4); default the model's ``tScheme``.
+    loads_at : {'end', 'last_stage'}
+        What loads (tensions, forces, curvatures) the views report after a step. ``'end'``
+        (default): evaluated at the state and time at the end of the step, consistent with the
+        reported positions. ``'last_stage'``: MoorDyn's convention, the loads of the last
+        derivative evaluation inside the step (for RK2 the midpoint stage, half a dtM earlier),
+        with positions and velocities from the end of the step. The two differ only in the
+        fastest (axial segment) modes; use ``'last_stage'`` to compare with MoorDyn sample by sample.
     """
 
-    def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None):
+    _STAGE_FIELDS = ("T", "Td", "seg_len", "seg_ldot", "F", "Fhyd", "Fbed", "W", "kurv", "pF", "pa")
+
+    def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None,
+                 loads_at: str = "end"):
+        if loads_at not in ("end", "last_stage"):
+            raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
+        self.loads_at = loads_at
         self.model = model
         self.layout = build_layout(model)
         self.scheme = parse_scheme(scheme if scheme is not None else model.options.tScheme)
@@ -236,11 +249,13 @@ class System:
         return x
 
     # ------------------------------------------------------------------ evaluation
-    def _evaluate(self, cd_scale: float = 1.0) -> None:
-        """Evaluate every load at the current state and time (refreshes what the views report)."""
+    def _evaluate(self, piece: int = -1) -> None:
+        """Evaluate every load at the current state and time (refreshes what the views report).
+        ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
+        velocity at the end of a step is the one imposed during it)."""
         dy = self._S[0]
         L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
-        rhs(self.t, self.y, dy, L, P, E, self._motion, W, cd_scale, self._ftmp)
+        rhs(self.t, self.y, dy, L, P, E, self._motion, W, 1.0, self._ftmp, piece)
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N], in coupled-DOF order."""
@@ -364,12 +379,18 @@ class System:
     def _advance(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
         L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
-        t, bad, _ = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, motion, W, 1.0, self._S,
-                            self._ftmp, MAX_NODE_SPEED)
+        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, motion, W, 1.0,
+                                   self._S, self._ftmp, MAX_NODE_SPEED)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
-        self._evaluate()
+        if self.loads_at == "last_stage" and piece >= 0:
+            kept = [getattr(W, f).copy() for f in self._STAGE_FIELDS]
+            self._evaluate(int(piece))
+            for f, a in zip(self._STAGE_FIELDS, kept, strict=True):
+                getattr(W, f)[...] = a
+        else:
+            self._evaluate(int(piece))
 
     # ------------------------------------------------------------------ state access
     def state_rows(self) -> list[tuple[str, int, int]]:

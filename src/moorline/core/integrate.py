@@ -14,7 +14,7 @@ from enum import IntEnum
 import numpy as np
 from numba import njit
 
-from .rhs import rhs
+from .rhs import motion_piece, rhs
 
 log = logging.getLogger("moorline.core")
 
@@ -63,29 +63,29 @@ def _axpy(out, y, h, k):
 
 
 @njit(cache=True)
-def step(y, t, h, scheme, L, P, E, Mo, W, cd_scale, S, ftmp):
-    """One step of length ``h`` in place. ``S`` is a (5, n) scratch array."""
+def step(y, t, h, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, piece):
+    """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch."""
     k1 = S[0]
     k2 = S[1]
     k3 = S[2]
     k4 = S[3]
     yt = S[4]
-    rhs(t, y, k1, L, P, E, Mo, W, cd_scale, ftmp)
+    rhs(t, y, k1, L, P, E, Mo, W, cd_scale, ftmp, piece)
     if scheme == 0:
         for i in range(y.size):
             y[i] += h * k1[i]
     elif scheme == 1:
         _axpy(yt, y, 0.5 * h, k1)
-        rhs(t + 0.5 * h, yt, k2, L, P, E, Mo, W, cd_scale, ftmp)
+        rhs(t + 0.5 * h, yt, k2, L, P, E, Mo, W, cd_scale, ftmp, piece)
         for i in range(y.size):
             y[i] += h * k2[i]
     else:
         _axpy(yt, y, 0.5 * h, k1)
-        rhs(t + 0.5 * h, yt, k2, L, P, E, Mo, W, cd_scale, ftmp)
+        rhs(t + 0.5 * h, yt, k2, L, P, E, Mo, W, cd_scale, ftmp, piece)
         _axpy(yt, y, 0.5 * h, k2)
-        rhs(t + 0.5 * h, yt, k3, L, P, E, Mo, W, cd_scale, ftmp)
+        rhs(t + 0.5 * h, yt, k3, L, P, E, Mo, W, cd_scale, ftmp, piece)
         _axpy(yt, y, h, k3)
-        rhs(t + h, yt, k4, L, P, E, Mo, W, cd_scale, ftmp)
+        rhs(t + h, yt, k4, L, P, E, Mo, W, cd_scale, ftmp, piece)
         c = h / 6.0
         for i in range(y.size):
             y[i] += c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -116,11 +116,14 @@ def advance(y, t, t_end, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax):
     bad_row : int
         -1, or the state row that became non-finite or exceeded ``vmax`` [m/s].
     n_steps : int
+    piece : int
+        Trajectory piece of the last step (-1 if no step was taken).
     """
     tol = 1e-9 * dtM
     nk = Mo.t.size
     j = 0
     n_steps = 0
+    piece = -1
     while t_end - t > tol:
         h = t_end - t
         if dtM < h:
@@ -129,7 +132,8 @@ def advance(y, t, t_end, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax):
             j += 1
         if j < nk and Mo.t[j] - t < h:
             h = Mo.t[j] - t
-        step(y, t, h, scheme, L, P, E, Mo, W, cd_scale, S, ftmp)
+        piece = motion_piece(Mo, t + 0.5 * h)
+        step(y, t, h, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, piece)
         n_steps += 1
         if t_end - (t + h) <= tol:
             t = t_end
@@ -139,5 +143,5 @@ def advance(y, t, t_end, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax):
             t = t + h
         bad = check_state(y, vmax)
         if bad >= 0:
-            return t, bad, n_steps
-    return t, -1, n_steps
+            return t, bad, n_steps, piece
+    return t, -1, n_steps, piece

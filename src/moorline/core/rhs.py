@@ -16,19 +16,25 @@ from .lines import add_end_mass, line_forces, solve3
 
 
 @njit(cache=True)
-def motion_eval(Mo, t, x, v, a):
-    """Evaluate the coupled trajectory ``Mo`` at time ``t`` into x, v, a."""
-    nk = Mo.t.size
+def motion_piece(Mo, t):
+    """Index of the trajectory piece holding time ``t`` (right-continuous at knots, clamped)."""
     lo = 0
-    hi = nk - 1
-    # last knot <= t, clamped to a valid piece
+    hi = Mo.t.size - 1
     while hi - lo > 1:
         mid = (lo + hi) // 2
         if Mo.t[mid] <= t:
             lo = mid
         else:
             hi = mid
-    k = lo
+    return lo
+
+
+@njit(cache=True)
+def motion_eval(Mo, t, piece, x, v, a):
+    """Evaluate the coupled trajectory ``Mo`` at time ``t`` into x, v, a, on trajectory piece
+    ``piece`` (or, when negative, on the piece that holds ``t``). A time step never straddles a knot
+    and evaluates all its stages on its own piece, as MoorDyn holds x + xd (tau - t) over a step."""
+    k = piece if piece >= 0 else motion_piece(Mo, t)
     s = t - Mo.t[k]
     for j in range(x.size):
         c0 = Mo.c[k, j, 0]
@@ -41,12 +47,12 @@ def motion_eval(Mo, t, x, v, a):
 
 
 @njit(cache=True)
-def set_kinematics(t, y, L, P, Mo, W):
+def set_kinematics(t, y, L, P, Mo, W, piece):
     """Points and line nodes from the state ``y`` and the coupled trajectory at time ``t``."""
     nrow = y.size // 6
     uoff = 3 * nrow
     if W.xc.size > 0:
-        motion_eval(Mo, t, W.xc, W.vc, W.ac)
+        motion_eval(Mo, t, piece, W.xc, W.vc, W.ac)
     for p in range(P.kind.size):
         k = P.kind[p]
         if k == P_FIXED:
@@ -103,7 +109,7 @@ def point_loads(P, E, W, cd_scale, ftmp):
 
 
 @njit(cache=True)
-def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp):
+def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
     Parameters
@@ -117,8 +123,10 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp):
         Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
     ftmp : ndarray (3,)
         Scratch.
+    piece : int
+        Piece of the coupled trajectory to evaluate (-1: the piece holding ``t``).
     """
-    set_kinematics(t, y, L, P, Mo, W)
+    set_kinematics(t, y, L, P, Mo, W, piece)
     npnt = P.kind.size
     for p in range(npnt):
         for a in range(3):

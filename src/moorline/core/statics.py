@@ -103,7 +103,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
     next_check = dtIC
     it = 0
     while True:
-        rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, ftmp)
+        rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, ftmp, -1)
         e = _accel_norm_sum(dy)
         if e0 < 0.0:
             e0 = e
@@ -111,7 +111,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
             b /= 1.01
             for i in range(uoff):
                 y[i] = 0.5 * (y[i] + qprev[i])
-            rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, ftmp)
+            rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, ftmp, -1)
             e = _accel_norm_sum(dy)
         else:
             b *= 1.01
@@ -166,10 +166,10 @@ def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
-        t, bad, _ = advance(y, t, t1, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax)
         if bad >= 0:
             return False, t, bad
-        rhs(t, y, S[0], L, P, E, Mo, W, cd_scale, ftmp)
+        rhs(t, y, S[0], L, P, E, Mo, W, cd_scale, ftmp, -1)
         _fairlead_tensions(L, W, ten)
         for k in range(nwin - 1):
             for li in range(nl):

@@ -1,0 +1,1 @@
+"""Numba kernels of moorline: arrays in, arrays out."""

@@ -1,0 +1,851 @@
+"""Read and write MoorDyn v2 input decks (line types, points, lines, options, outputs).
+
+The reader works in two stages. :func:`moorline.io.lexer.lex` cuts the text into sections and rows
+(each row keeps its line number and raw text); the builder here turns rows into a
+:class:`~moorline.model.Model` through tables of columns (:class:`Column`), so that every error can
+name the file, the line, the row, the field and what was expected. All bad input raises
+:class:`~moorline.errors.DeckError`; anything else worth knowing is logged on ``moorline.io``.
+
+Supported: LINE TYPES (10, 11 or 13 columns; 9-column MoorDyn v1 rows), POINTS (9 or 12 column
+layouts, also v1 CONNECTION PROPERTIES), LINES (v2 layout and the v1 layout with the length before
+the end points), OPTIONS (every MoorDyn-C key and the MoorDyn-F aliases), OUTPUTS, and EA/BA/EI
+curve files. Rods, bodies, Syrope, failures and bathymetry raise a DeckError saying so.
+
+MoorDyn v1 LINES rows (``Line LineType UnstrLen NumSegs NodeAnch NodeFair Flags``) are told apart
+from v2 rows (``ID LineType AttachA AttachB UnstrLen NumSegs Outputs``) row by row: a row is v1 when
+its columns 5 and 6 are plain unsigned integers naming existing points, its column 3 is a number,
+and either column 3 or 4 is not a valid v2 attachment or the LINE TYPES section used the 9-column
+v1 layout. Every other row is read as v2.
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..errors import DeckError
+from ..model import Attachment, Curve, Line, LineType, Model, ModelError, Point, PointKind
+from .lexer import Row, Section, lex, parse_number, parse_whole, split_lines, tokenize
+
+log = logging.getLogger("moorline.io")
+
+#: MoorDyn-C's limit on curve-file rows (more are accepted with a warning).
+CURVE_MAX_POINTS = 30
+
+_UNSUPPORTED = {
+    "ROD TYPES": "rods, bodies and cables come with the cable work",
+    "RODS": "rods, bodies and cables come with the cable work",
+    "BODIES": "rods, bodies and cables come with the cable work",
+    "SYROPE IC": "the Syrope rope model is not implemented",
+    "FAILURE": "line failures are not implemented",
+}
+_IGNORED = ("CONTROL", "EXTERNAL LOADS")  # MoorDyn-F only; MoorDyn-C ignores them too
+
+
+class _Bad(Exception):
+    """A field that cannot be read: ``text`` is what was expected (or, if ``plain``, the whole story)."""
+
+    def __init__(self, text: str, plain: bool = False):
+        super().__init__(text)
+        self.text = text
+        self.plain = plain
+
+
+class _CurveProblem(Exception):
+    def __init__(self, message: str, line: int | None = None, row: str | None = None):
+        super().__init__(message)
+        self.message, self.line, self.row = message, line, row
+
+
+# ---------------------------------------------------------------------------------- field parsers
+# Each parser takes (token, reader) and returns the value or raises _Bad(expected).
+
+def _num(tok, rd=None, *, cond=None, what="a number"):
+    v = parse_number(tok)
+    if v is None or (cond is not None and not cond(v)):
+        raise _Bad(what)
+    return v
+
+
+def _any(tok, rd=None):
+    return _num(tok)
+
+
+def _pos(tok, rd=None):
+    return _num(tok, cond=lambda v: v > 0, what="a number > 0")
+
+
+def _nonneg(tok, rd=None):
+    return _num(tok, cond=lambda v: v >= 0, what="a number >= 0")
+
+
+def _nonzero(tok, rd=None):
+    return _num(tok, cond=lambda v: v != 0,
+                what="a non-zero number (a negative value -f means f times the end-to-end distance)")
+
+
+def _whole(tok, rd=None):
+    v = parse_whole(tok)
+    if v is None:
+        raise _Bad("a whole number")
+    return v
+
+
+def _flag01(tok, rd=None):
+    v = parse_whole(tok)
+    if v not in (0, 1):
+        raise _Bad("0 or 1")
+    return v
+
+
+def _nsegs(tok, rd=None):
+    v = parse_whole(tok)
+    if v is None or v < 1:
+        raise _Bad("a whole number >= 1")
+    return v
+
+
+def _word(tok, rd=None):
+    return tok
+
+
+def _flags(tok, rd=None):
+    return "" if tok == "-" else tok
+
+
+def _ea(tok, rd):
+    if "|" in tok or tok.upper().startswith("SYROPE"):
+        raise _Bad(f"{tok!r}: the viscoelastic and Syrope rope models (EA_s|EA_d, EA_s|EA_Dc|EA_D_Lm, "
+                   "SYROPE:...) are not supported yet; give EA as a number or a curve file", plain=True)
+    return rd.number_or_curve(tok, "EA", "a number > 0", lambda v: v > 0)
+
+
+def _ba(tok, rd):
+    if "|" in tok:
+        raise _Bad(f"{tok!r}: BA_s|BA_d belongs to the viscoelastic/Syrope models, which are not supported "
+                   "yet; give BA as a number (negative = -zeta) or a curve file", plain=True)
+    return rd.number_or_curve(tok, "BA", "a number (negative = -zeta damping ratio)", None)
+
+
+def _ei(tok, rd):
+    return rd.number_or_curve(tok, "EI", "a number >= 0", lambda v: v >= 0)
+
+
+_POINT_WORDS = {
+    "ANCHOR": PointKind.FIXED, "FIXED": PointKind.FIXED, "FIX": PointKind.FIXED,
+    "FAIRLEAD": PointKind.COUPLED, "VESSEL": PointKind.COUPLED, "VES": PointKind.COUPLED,
+    "COUPLED": PointKind.COUPLED, "CPLD": PointKind.COUPLED,
+    "POINT": PointKind.FREE, "CONNECT": PointKind.FREE, "CON": PointKind.FREE, "FREE": PointKind.FREE,
+}
+_POINT_KIND_TEXT = "Fixed/Anchor/Fix, Coupled/Vessel/Ves/Cpld/Fairlead or Free/Point/Connect/Con"
+
+
+def _point_kind(tok, rd=None):
+    up = tok.upper()
+    if up in _POINT_WORDS:
+        return _POINT_WORDS[up]
+    if re.fullmatch(r"BODY\d+", up):
+        raise _Bad(f"{tok!r}: bodies are not supported yet (points fixed to a body come with the cable "
+                   "work)", plain=True)
+    if re.fullmatch(r"TURBINE\d+", up):
+        raise _Bad(f"{tok!r}: TURBINE<n> points are a FAST.Farm feature and are not supported", plain=True)
+    raise _Bad(f"a point type word ({_POINT_KIND_TEXT})")
+
+
+_POINT_REF = re.compile(r"(?:P|POINT|C|CON)?(\d+)")
+_ROD_REF = re.compile(r"(?:R|ROD)(\d+)([AB]?)")
+
+
+def _attachment(tok, rd):
+    up = tok.upper()
+    m = _POINT_REF.fullmatch(up)
+    if m:
+        n = int(m.group(1))
+        if not 1 <= n <= rd.n_points:
+            raise _Bad(f"a point number from 1 to {rd.n_points} (there is no point {n}; the deck has "
+                       f"{rd.n_points} points)")
+        return Attachment("point", n - 1)
+    m = _ROD_REF.fullmatch(up)
+    if m:
+        raise _Bad(f"{tok!r}: rods are not supported yet (line ends on rods come with the cable work)",
+                   plain=True)
+    raise _Bad("a point (n, Pn, POINTn, Cn, CONn) or a rod end (RnA, RnB, RODnA, RODnB)")
+
+
+def _is_attachment(tok: str, n_points: int) -> bool:
+    up = tok.upper()
+    m = _POINT_REF.fullmatch(up)
+    if m:
+        return 1 <= int(m.group(1)) <= n_points
+    return _ROD_REF.fullmatch(up) is not None
+
+
+# ---------------------------------------------------------------------------------- column tables
+@dataclass(frozen=True)
+class Column:
+    """One column of a table section.
+
+    Attributes
+    ----------
+    name : str
+        Field name as used in messages and in the titles row written by :func:`write_deck`.
+    unit : str
+        Units text for the units row.
+    parse : callable
+        ``parse(token, reader) -> value``.
+    attr : str
+        Keyword of the model object the value goes to.
+    """
+
+    name: str
+    unit: str
+    parse: Callable[[str, Any], Any]
+    attr: str
+
+
+def _c(name, unit, parse, attr=None):
+    return Column(name, unit, parse, attr or name)
+
+
+LINE_TYPE_COLUMNS = (
+    _c("TypeName", "(name)", _word, "name"), _c("Diam", "(m)", _pos, "d"), _c("Mass/m", "(kg/m)", _pos, "w"),
+    _c("EA", "(N)", _ea), _c("BA/-zeta", "(N-s/-)", _ba, "BA"), _c("EI", "(N-m^2)", _ei),
+    _c("Cd", "(-)", _nonneg), _c("Ca", "(-)", _nonneg), _c("CdAx", "(-)", _nonneg),
+    _c("CaAx", "(-)", _nonneg), _c("Cl", "(-)", _nonneg), _c("dF", "(-)", _nonneg), _c("cF", "(-)", _nonneg),
+)
+LINE_TYPE_COLUMNS_V1 = (
+    _c("Name", "(name)", _word, "name"), _c("Diam", "(m)", _pos, "d"),
+    _c("MassDenInAir", "(kg/m)", _pos, "w"),
+    _c("EA", "(N)", _ea), _c("BA/-zeta", "(N-s/-)", _ba, "BA"), _c("Can", "(-)", _nonneg, "Ca"),
+    _c("Cat", "(-)", _nonneg, "CaAx"), _c("Cdn", "(-)", _nonneg, "Cd"), _c("Cdt", "(-)", _nonneg, "CdAx"),
+)
+_POINT_HEAD = (
+    _c("ID", "(#)", _whole), _c("Attachment", "(-)", _point_kind, "kind"), _c("X", "(m)", _any),
+    _c("Y", "(m)", _any), _c("Z", "(m)", _any), _c("Mass", "(kg)", _nonneg, "m"),
+    _c("Volume", "(m^3)", _nonneg, "V"),
+)
+_POINT_FORCE = (_c("FX", "(N)", _any), _c("FY", "(N)", _any), _c("FZ", "(N)", _any))
+_POINT_TAIL = (_c("CdA", "(m^2)", _nonneg), _c("Ca", "(-)", _nonneg))
+POINT_COLUMNS = _POINT_HEAD + _POINT_TAIL
+POINT_COLUMNS_F = _POINT_HEAD + _POINT_FORCE + _POINT_TAIL
+LINE_COLUMNS = (
+    _c("ID", "(#)", _whole), _c("LineType", "(name)", _word, "line_type"),
+    _c("AttachA", "(#)", _attachment, "end_a"), _c("AttachB", "(#)", _attachment, "end_b"),
+    _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
+    _c("LineOutputs", "(-)", _flags, "outputs"),
+)
+LINE_COLUMNS_V1 = (
+    _c("Line", "(#)", _whole, "ID"), _c("LineType", "(name)", _word, "line_type"),
+    _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
+    _c("NodeAnch", "(#)", _attachment, "end_a"), _c("NodeFair", "(#)", _attachment, "end_b"),
+    _c("Flags/Outputs", "(-)", _flags, "outputs"),
+)
+
+
+# ---------------------------------------------------------------------------------- options
+def _depth(tok, rd=None):
+    if parse_number(tok) is None and re.search(r"[A-DF-Za-df-z_/\\]", tok):
+        raise _Bad(f"{tok!r}: a bathymetry file given as WtrDpth (MoorDyn-F layout) is not supported yet; "
+                   "give the water depth as a number >= 0", plain=True)
+    return _nonneg(tok)
+
+
+#: (canonical key, aliases, target object, attribute, parser). Keys are compared case-insensitively.
+OPTION_TABLE = (
+    ("writeLog", (), "options", "writeLog", _whole),
+    ("dtM", ("dt",), "options", "dtM", _pos),
+    ("CFL", (), "options", "CFL", _pos),
+    ("tScheme", (), "options", "tScheme", _word),
+    ("g", ("gravity",), "env", "g", _pos),
+    ("rho", ("WtrDnsty", "rhoW"), "env", "rho", _pos),
+    ("WtrDpth", ("depth", "WaterDepth"), "env", "depth", _depth),
+    ("kBot", ("kb",), "env", "kBot", _nonneg),
+    ("cBot", ("cb",), "env", "cBot", _nonneg),
+    ("FrictionCoefficient", (), "env", "mu", _nonneg),
+    ("FricDamp", (), "env", "fric_damp", _nonneg),
+    ("StatDynFricScale", (), "env", "stat_dyn", _pos),
+    ("dtIC", ("ICdt",), "options", "dtIC", _pos),
+    ("TmaxIC", ("ICTmax",), "options", "TmaxIC", _nonneg),
+    ("CdScaleIC", ("ICDfac",), "options", "CdScaleIC", _pos),
+    ("threshIC", ("ICthresh",), "options", "threshIC", _pos),
+    ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
+    ("dtOut", (), "options", "dtOut", _nonneg),
+    ("WriteUnits", (), "options", "WriteUnits", _flag01),
+    ("disableOutput", (), "options", "disableOutput", _flag01),
+)
+
+
+def _equals(x):
+    return lambda v, opts: parse_number(v) == x
+
+
+def _always(v, opts):
+    return True
+
+
+def _never(v, opts):
+    return False
+
+
+def _no_directional_friction(v, opts):
+    return all(parse_number(opts[k][0]) in (None, 0.0) for k in ("mu_kT", "mu_kA") if k in opts)
+
+
+#: Keys read but not acted on: canonical key -> (aliases, is_neutral(value, options)).
+#: A neutral value changes nothing and is only logged at debug level; any other value is stored in
+#: ``model.options.not_acted_on`` with one warning.
+NOT_ACTED_ON = {
+    "WaveKin": ((), _equals(0.0)),
+    "dtWave": ((), _always),
+    "Currents": ((), _equals(0.0)),
+    "UnifyCurrentGrid": ((), _equals(1.0)),
+    "SeafloorFile": ((), _never),
+    "fileIC": (("ICfile",), _never),
+    "disableOutTime": ((), _always),
+    "WaterKin": ((), _never),
+    "mu_kT": ((), _equals(0.0)),
+    "mu_kA": ((), _equals(0.0)),
+    "mc": ((), _no_directional_friction),
+    "cv": ((), _no_directional_friction),
+    "inertialF": ((), _equals(0.0)),
+    "inertialF_rampT": ((), _always),
+    "OutSwitch": ((), _always),
+}
+
+_OPTION_KEYS: dict[str, str] = {}
+for _key, _aliases, *_ in OPTION_TABLE:
+    for _k in (_key, *_aliases):
+        _OPTION_KEYS[_k.lower()] = _key
+for _key, (_aliases, _) in NOT_ACTED_ON.items():
+    for _k in (_key, *_aliases):
+        _OPTION_KEYS[_k.lower()] = _key
+
+
+# ---------------------------------------------------------------------------------- reader
+class _Reader:
+    """State of one deck being read (file name, folder, model under construction, row bookkeeping)."""
+
+    def __init__(self, path, base_dir):
+        self.path = Path(path) if path is not None else None
+        self.file = str(path) if path is not None else "<deck>"
+        if base_dir is not None:
+            self.base_dir = Path(base_dir)
+        elif self.path is not None:
+            self.base_dir = self.path.resolve().parent
+        else:
+            self.base_dir = Path.cwd()
+        self.model = Model()
+        self.n_points = 0
+        self.v1_types = False
+        self.type_rows: dict[str, Row] = {}
+        self.point_rows: list[Row] = []
+        self.line_rows: list[Row] = []
+        self.option_rows: dict[str, Row] = {}
+        self.sections: dict[str, Section] = {}
+
+    # ----- errors
+    def error(self, message, row: Row | None = None, field=None, *, line=None) -> DeckError:
+        return DeckError(message, file=self.file, line=row.line if row is not None else line,
+                         row=row.text if row is not None else None, field=field)
+
+    def field_error(self, section, row, name, tok, bad: _Bad) -> DeckError:
+        if bad.plain:
+            msg = f"field {name!r} of {section}: {bad.text}"
+        else:
+            msg = f"field {name!r} of {section}: expected {bad.text}, got {tok!r}"
+        return self.error(msg, row, name)
+
+    def read_fields(self, section, row, columns) -> dict:
+        """Parse ``row.tokens`` against ``columns`` (extra tokens are ignored)."""
+        out = {}
+        for col, tok in zip(columns, row.tokens, strict=False):
+            try:
+                out[col.attr] = col.parse(tok, self)
+            except _Bad as bad:
+                raise self.field_error(section, row, col.name, tok, bad) from None
+        return out
+
+    def check_count(self, section, row, columns, allowed: str):
+        n = len(row.tokens)
+        if n < len(columns):
+            raise self.error(f"{section} row has {n} values, expected {allowed}: field "
+                             f"{columns[n].name!r} is missing", row, columns[n].name)
+
+    def check_id(self, section, row, got: int, want: int, name="ID"):
+        if got != want:
+            raise self.error(f"field {name!r} of {section}: expected {want} (IDs must read 1, 2, 3, ... in "
+                             f"row order), got {row.tokens[0]!r}", row, name)
+
+    # ----- EA / BA / EI
+    def number_or_curve(self, tok, what, expected, cond):
+        v = parse_number(tok)
+        if v is not None:
+            if cond is not None and not cond(v):
+                raise _Bad(expected)
+            return v
+        p = self.base_dir / tok
+        if not p.is_file():
+            article = "an" if what[0] in "AEIOU" else "a"
+            raise _Bad(f"{expected} or the name of {article} {what} curve file (no such file: {p})")
+        try:
+            return _load_curve(p, what)
+        except _CurveProblem as e:
+            where = f"{p}" + (f", line {e.line}" if e.line is not None else "")
+            row = f" (row {e.row.strip()!r})" if e.row is not None else ""
+            raise _Bad(f"bad {what} curve file {where}: {e.message}{row}", plain=True) from None
+
+    # ----- sections
+    def collect(self, sections: list[Section]):
+        for sec in sections:
+            if sec.name in self.sections:
+                first = self.sections[sec.name]
+                raise self.error(f"section {sec.name} appears twice (first header on line {first.line})",
+                                 line=sec.line)
+            self.sections[sec.name] = sec
+        bad = [sec for sec in sections if sec.name in _UNSUPPORTED and sec.rows]
+        if bad:
+            names = [f"{sec.name} (line {sec.line})" for sec in bad]
+            which = f"section {bad[0].name}" if len(bad) == 1 else \
+                f"sections {', '.join(names[:-1])} and {names[-1]}"
+            why = "; ".join(dict.fromkeys(_UNSUPPORTED[sec.name] for sec in bad))
+            verb = "is" if len(bad) == 1 else "are"
+            raise self.error(f"{which} {verb} not supported yet ({why})", line=bad[0].line)
+        for sec in sections:
+            if sec.name in _IGNORED:
+                if sec.rows:
+                    log.warning("%s, line %d: section %s (MoorDyn-F only) is ignored", self.file, sec.line,
+                                sec.name)
+            elif sec.name in _UNSUPPORTED:
+                log.debug("%s, line %d: empty section %s ignored", self.file, sec.line, sec.name)
+
+    def required(self, name, what) -> Section:
+        sec = self.sections.get(name)
+        if sec is None:
+            raise self.error(f"no {name} section: the deck needs a header line containing '---' and "
+                             f"'{name}' followed by {what}")
+        if not sec.rows:
+            raise self.error(f"the {name} section has no rows: expected {what}", line=sec.line)
+        return sec
+
+    def read_line_types(self):
+        sec = self.required("LINE TYPES", "at least one line type")
+        for row in sec.rows:
+            n = len(row.tokens)
+            if n == 9:
+                cols = LINE_TYPE_COLUMNS_V1
+                if not self.v1_types:
+                    log.info("%s, line %d: 9-column LINE TYPES row read as MoorDyn v1 "
+                             "(Name Diam MassDenInAir EA BA Can Cat Cdn Cdt)", self.file, row.line)
+                self.v1_types = True
+            elif n in (10, 11, 13):
+                cols = LINE_TYPE_COLUMNS[:n]
+            else:
+                allowed = "10, 11 or 13 (or 9 for a MoorDyn v1 row)"
+                if n < 10:
+                    self.check_count("LINE TYPES", row, LINE_TYPE_COLUMNS[:10], allowed)
+                missing = "cF" if n == 12 else None
+                extra = f"field {missing!r} is missing (dF and cF go together)" if missing else \
+                    f"nothing may follow field 'cF' (got {row.tokens[13]!r})"
+                raise self.error(f"LINE TYPES row has {n} values, expected {allowed}: {extra}", row,
+                                 missing or "cF")
+            f = self.read_fields("LINE TYPES", row, cols)
+            if n == 11:
+                f.update(dF=0.08, cF=0.18)
+            name = f.pop("name")
+            if name in self.model.line_types:
+                log.warning("%s, line %d: line type %r defined again; the later definition wins", self.file,
+                            row.line, name)
+            self.model.line_types[name] = LineType(name, **f)
+            self.type_rows[name] = row
+
+    def read_points(self):
+        sec = self.sections.get("POINTS")
+        rows = sec.rows if sec is not None else []
+        for k, row in enumerate(rows, 1):
+            if len(row.tokens) >= 12:
+                cols = POINT_COLUMNS_F
+            else:
+                self.check_count("POINTS", row, POINT_COLUMNS, "9 (ID Attachment X Y Z Mass Volume CdA Ca) "
+                                 "or 12 (... Volume FX FY FZ CdA Ca)")
+                cols = POINT_COLUMNS
+            f = self.read_fields("POINTS", row, cols)
+            self.check_id("POINTS", row, f.pop("ID"), k)
+            r = (f.pop("X"), f.pop("Y"), f.pop("Z"))
+            F = (f.pop("FX", 0.0), f.pop("FY", 0.0), f.pop("FZ", 0.0))
+            self.model.points.append(Point(r=r, F_ext=F, **f))
+            self.point_rows.append(row)
+        self.n_points = len(self.model.points)
+
+    def is_v1_line(self, toks) -> bool:
+        if not all(re.fullmatch(r"\d+", t) and 1 <= int(t) <= self.n_points for t in toks[4:6]):
+            return False
+        if parse_number(toks[2]) is None:
+            return False
+        return self.v1_types or not (_is_attachment(toks[2], self.n_points)
+                                     and _is_attachment(toks[3], self.n_points))
+
+    def read_lines(self):
+        sec = self.required("LINES", "at least one line")
+        said_v1 = False
+        for k, row in enumerate(sec.rows, 1):
+            self.check_count("LINES", row, LINE_COLUMNS,
+                             "7 (ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs)")
+            cols = LINE_COLUMNS
+            if self.is_v1_line(row.tokens):
+                cols = LINE_COLUMNS_V1
+                if not said_v1:
+                    log.info("%s, line %d: LINES row read in the MoorDyn v1 layout "
+                             "(Line LineType UnstrLen NumSegs NodeAnch NodeFair Flags)", self.file, row.line)
+                    said_v1 = True
+            f = self.read_fields("LINES", row, cols)
+            self.check_id("LINES", row, f.pop("ID"), k, cols[0].name)
+            if f["line_type"] not in self.model.line_types:
+                known = ", ".join(repr(t) for t in self.model.line_types)
+                raise self.error(f"field 'LineType' of LINES: expected a line type name from LINE TYPES "
+                                 f"({known}; names are case-sensitive), got {f['line_type']!r}", row,
+                                 "LineType")
+            if f["end_a"] == f["end_b"]:
+                name = "NodeFair" if cols is LINE_COLUMNS_V1 else "AttachB"
+                raise self.error(f"field {name!r} of LINES: expected an attachment other than end A's, got "
+                                 f"{f['end_b']} for both ends", row, name)
+            self.model.lines.append(Line(**f))
+            self.line_rows.append(row)
+
+    def read_options(self):
+        sec = self.sections.get("OPTIONS")
+        given: dict[str, tuple[str, Row, str]] = {}  # canonical -> (value, row, key as typed)
+        for row in sec.rows if sec is not None else []:
+            toks = row.tokens
+            if len(toks) < 2:
+                tok = toks[0]
+                if tok.lower() in _OPTION_KEYS:
+                    raise self.error(f"field {tok!r} of OPTIONS: expected a value before the key (rows are "
+                                     f"'value key [comment]'), got only the key", row, tok)
+                raise self.error(f"field 'key' of OPTIONS: expected a key after the value {tok!r} (rows are "
+                                 "'value key [comment]')", row, "key")
+            value, key = toks[0], toks[1]
+            canon = _OPTION_KEYS.get(key.lower())
+            if canon is None:
+                if value.lower() in _OPTION_KEYS:
+                    raise self.error(f"field {value!r} of OPTIONS: expected 'value key', got the key first "
+                                     f"({value!r} then {key!r})", row, value)
+                log.warning("%s, line %d: unknown option %r ignored", self.file, row.line, key)
+                continue
+            if canon in given:
+                log.debug("%s, line %d: option %s given again; the last value wins", self.file, row.line,
+                          canon)
+            given[canon] = (value, row, key)
+        for key, _aliases, target, attr, parse in OPTION_TABLE:
+            if key not in given:
+                continue
+            value, row, typed = given[key]
+            try:
+                v = parse(value, self)
+            except _Bad as bad:
+                raise self.field_error("OPTIONS", row, typed, value, bad) from None
+            setattr(self.model.env if target == "env" else self.model.options, attr, v)
+            self.option_rows[key] = row
+        for key, (_aliases, neutral) in NOT_ACTED_ON.items():
+            if key not in given:
+                continue
+            value, row, typed = given[key]
+            self.option_rows[key] = row
+            if neutral(value, given):
+                log.debug("%s, line %d: option %s = %s has no effect here", self.file, row.line, typed, value)
+                continue
+            self.model.options.not_acted_on[key] = value
+            log.warning("%s, line %d: option %s = %s is read but not acted on by this version of moorline",
+                        self.file, row.line, typed, value)
+
+    def read_outputs(self):
+        sec = self.sections.get("OUTPUTS")
+        for row in sec.rows if sec is not None else []:
+            for tok in row.tokens:
+                if tok.upper() == "END":
+                    log.debug("%s, line %d: v1 END row skipped", self.file, row.line)
+                    continue
+                self.model.outputs.append(tok)
+
+    def validate(self):
+        try:
+            self.model.validate()
+        except ModelError as e:
+            msg = str(e)
+            row = self._row_for(msg)
+            line = None
+            if row is None and "no lines" in msg and "LINES" in self.sections:
+                line = self.sections["LINES"].line
+            raise self.error(f"invalid model: {msg}", row, line=line) from None
+
+    def _row_for(self, msg) -> Row | None:
+        m = re.match(r"line type '([^']*)'", msg)
+        if m:
+            return self.type_rows.get(m.group(1))
+        for pattern, rows in ((r"line (\d+)", self.line_rows), (r"point (\d+)", self.point_rows)):
+            m = re.match(pattern, msg)
+            if m and 1 <= int(m.group(1)) <= len(rows):
+                return rows[int(m.group(1)) - 1]
+        for word, keys in (("rho", ("rho", "g")), ("water depth", ("WtrDpth",))):
+            if word in msg:
+                return next((self.option_rows[k] for k in keys if k in self.option_rows), None)
+        return None
+
+
+def read_deck_text(text: str, path=None, base_dir=None) -> Model:
+    """Build a :class:`~moorline.model.Model` from the text of a MoorDyn v2 deck.
+
+    Parameters
+    ----------
+    text : str
+        The deck.
+    path : str or Path, optional
+        File name used in messages and as ``model.source``; its folder is the default ``base_dir``.
+    base_dir : str or Path, optional
+        Folder that curve file names are relative to (default: the folder of ``path``, else the
+        working directory).
+
+    Returns
+    -------
+    Model
+        A validated model.
+
+    Raises
+    ------
+    DeckError
+        For any malformed or unsupported content, naming file, line, row and field.
+    """
+    rd = _Reader(path, base_dir)
+    rd.collect(lex(text, file=rd.file))
+    rd.read_options()
+    rd.read_line_types()
+    rd.read_points()
+    rd.read_lines()
+    rd.read_outputs()
+    rd.model.source = rd.path
+    rd.validate()
+    return rd.model
+
+
+def read_deck(path) -> Model:
+    """Read a MoorDyn v2 input deck (also the v1 layouts of LINE TYPES and LINE PROPERTIES).
+
+    Parameters
+    ----------
+    path : str or Path
+        The deck file. Curve files named in it are looked up in its folder.
+
+    Returns
+    -------
+    Model
+        A validated model with ``model.source`` set to ``Path(path)``.
+
+    Raises
+    ------
+    DeckError
+        If the file cannot be read or its content is malformed or not supported.
+    """
+    path = Path(path)
+    try:
+        text = path.read_bytes().decode("utf-8", errors="replace")
+    except OSError as e:
+        raise DeckError(f"cannot read the deck: {e.strerror or e}", file=path) from e
+    return read_deck_text(text, path=path)
+
+
+# ---------------------------------------------------------------------------------- curves
+def _load_curve(path: Path, what: str) -> Curve:
+    try:
+        text = path.read_bytes().decode("utf-8", errors="replace")
+    except OSError as e:
+        raise _CurveProblem(f"cannot read the file: {e.strerror or e}") from e
+    xs: list[float] = []
+    ys: list[float] = []
+    last_line = 0
+    for lineno, raw in enumerate(split_lines(text), 1):
+        if lineno <= 3:
+            continue
+        toks = tokenize(raw)
+        if not toks:
+            continue
+        if len(toks) < 2:
+            raise _CurveProblem("expected two numbers 'x y', got one value", lineno, raw)
+        x, y = parse_number(toks[0]), parse_number(toks[1])
+        if x is None or y is None:
+            bad = toks[0] if x is None else toks[1]
+            raise _CurveProblem(f"expected two numbers 'x y', got {bad!r}", lineno, raw)
+        if xs and x <= xs[-1]:
+            raise _CurveProblem(f"expected x values strictly increasing, got {x:g} after {xs[-1]:g} "
+                                f"(line {last_line})", lineno, raw)
+        xs.append(x)
+        ys.append(y)
+        last_line = lineno
+    if len(xs) < 2:
+        raise _CurveProblem(f"expected at least two 'x y' rows after the three header lines, got {len(xs)}")
+    if len(xs) > CURVE_MAX_POINTS:
+        log.warning("%s: %s curve has %d points; MoorDyn accepts at most %d", path, what, len(xs),
+                    CURVE_MAX_POINTS)
+    return Curve(xs, ys, source=str(path))
+
+
+def read_curve(path, what: str = "curve") -> Curve:
+    """Read a MoorDyn lookup-table file (EA, BA or EI curve, spec 1.11.1).
+
+    The first three lines are headers; every later non-blank line holds ``x y`` (extra tokens are
+    ignored). x must be strictly increasing.
+
+    Parameters
+    ----------
+    path : str or Path
+        The curve file.
+    what : str
+        What the table is (``"EA"``, ``"BA"``, ``"EI"``), for messages.
+
+    Returns
+    -------
+    Curve
+        With ``source`` set to ``str(path)``.
+
+    Raises
+    ------
+    DeckError
+        Naming the file and line of the first bad row.
+    """
+    path = Path(path)
+    try:
+        return _load_curve(path, what)
+    except _CurveProblem as e:
+        raise DeckError(f"{what} curve: {e.message}", file=path, line=e.line, row=e.row) from None
+
+
+# ---------------------------------------------------------------------------------- writer
+_KIND_WORD = {PointKind.FIXED: "Fixed", PointKind.COUPLED: "Coupled", PointKind.FREE: "Free"}
+_SAFE = re.compile(r"[^A-Za-z0-9_.-]")
+
+
+def _fmt(v) -> str:
+    if isinstance(v, int | bool):
+        return str(int(v))
+    return repr(float(v))
+
+
+def _table(title: str, columns, rows: list[list[str]]) -> list[str]:
+    """A dashed header, titles, units and aligned rows."""
+    body = [[c.name for c in columns], [c.unit for c in columns], *rows]
+    widths = [max(len(r[i]) for r in body if i < len(r)) for i in range(len(columns))]
+    out = [f"{'-' * 20} {title} {'-' * max(3, 50 - len(title))}"]
+    for r in body:
+        out.append("  ".join(s.ljust(w) for s, w in zip(r, widths, strict=False)).rstrip())
+    return out
+
+
+def _write_curve(c: Curve, path: Path, what: str, type_name: str):
+    units = {"EA": ("strain (-)", "tension (N)"), "BA": ("strain rate (1/s)", "damping force (N)"),
+             "EI": ("curvature (1/m)", "bending moment (N-m)")}[what]
+    head = [f"{what} curve of line type {type_name} (written by moorline)", f"{units[0]}  {units[1]}",
+            "---"]
+    rows = [f"{_fmt(x)} {_fmt(y)}" for x, y in zip(c.x, c.y, strict=True)]
+    # no trailing newline: MoorDyn-C reads the empty record after it as a bad curve point
+    path.write_text("\n".join(head + rows), encoding="utf-8")
+
+
+def _check_token(text: str, what: str):
+    if not text or any(ch.isspace() for ch in text) or "#" in text or "---" in text:
+        raise ValueError(f"{what} {text!r} cannot be written to a deck (it must be one token without "
+                         "spaces, '#' or '---')")
+
+
+def write_deck(model: Model, path) -> Path:
+    """Write ``model`` as a MoorDyn v2 deck that :func:`read_deck` reads back to an equal model.
+
+    Sections are written in the order LINE TYPES, POINTS, LINES, OPTIONS, OUTPUTS, followed by a
+    closing dashed line. EA/BA/EI curves are written to neighbouring files named
+    ``<deck stem>_<type>_<EA|BA|EI>.txt``. Floats are written with ``repr`` so they read back exactly.
+
+    Parameters
+    ----------
+    model : Model
+    path : str or Path
+        The deck file to write (overwritten).
+
+    Returns
+    -------
+    Path
+        The path written.
+
+    Raises
+    ------
+    ValueError
+        If the model holds something a deck cannot express (names with spaces, body points, rod
+        attachments).
+    """
+    path = Path(path)
+    out = ["-" * 20 + " MoorDyn v2 input file " + "-" * 30,
+           f"Written by moorline{f' from {model.source.name}' if model.source else ''}"]
+
+    rows = []
+    for name, lt in model.line_types.items():
+        _check_token(name, "line type name")
+        cells = [name, _fmt(lt.d), _fmt(lt.w)]
+        for what in ("EA", "BA", "EI"):
+            v = getattr(lt, what)
+            if isinstance(v, Curve):
+                fname = f"{path.stem}_{_SAFE.sub('_', name)}_{what}.txt"
+                _write_curve(v, path.parent / fname, what, name)
+                cells.append(fname)
+            else:
+                cells.append(_fmt(v))
+        cells += [_fmt(lt.Cd), _fmt(lt.Ca), _fmt(lt.CdAx), _fmt(lt.CaAx)]
+        if (lt.Cl, lt.dF, lt.cF) != (0.0, 0.0, 0.0):
+            cells.append(_fmt(lt.Cl))
+            if (lt.dF, lt.cF) != (0.08, 0.18):
+                cells += [_fmt(lt.dF), _fmt(lt.cF)]
+        rows.append(cells)
+    out += _table("LINE TYPES", LINE_TYPE_COLUMNS[:max((len(r) for r in rows), default=10)], rows)
+
+    with_force = any(p.F_ext.any() for p in model.points)
+    rows = []
+    for i, p in enumerate(model.points, 1):
+        if p.kind not in _KIND_WORD:
+            raise ValueError(f"point {i}: {p.kind.name} points cannot be written (bodies not supported yet)")
+        cells = [str(i), _KIND_WORD[p.kind], *map(_fmt, p.r), _fmt(p.m), _fmt(p.V)]
+        if with_force:
+            cells += list(map(_fmt, p.F_ext))
+        rows.append(cells + [_fmt(p.CdA), _fmt(p.Ca)])
+    out += _table("POINTS", POINT_COLUMNS_F if with_force else POINT_COLUMNS, rows)
+
+    rows = []
+    for k, ln in enumerate(model.lines, 1):
+        ends = []
+        for att in (ln.end_a, ln.end_b):
+            if att.kind != "point":
+                raise ValueError(f"line {k}: attachment {att} cannot be written (rods not supported yet)")
+            ends.append(str(att.index + 1))
+        if ln.outputs:
+            _check_token(ln.outputs, f"line {k} output flags")
+        rows.append([str(k), ln.line_type, *ends, _fmt(ln.L), str(int(ln.N)), ln.outputs or "-"])
+    out += _table("LINES", LINE_COLUMNS, rows)
+
+    out.append(f"{'-' * 20} OPTIONS {'-' * 43}")
+    opts = []
+    for key, _aliases, target, attr, _parse in OPTION_TABLE:
+        v = getattr(model.env if target == "env" else model.options, attr)
+        if v is None:
+            continue
+        opts.append((v if isinstance(v, str) else _fmt(v), key))
+    for key, value in model.options.not_acted_on.items():
+        _check_token(str(value), f"option {key} value")
+        opts.append((str(value), key))
+    width = max((len(v) for v, _ in opts), default=0)
+    out += [f"{v.ljust(width)}  {k}" for v, k in opts]
+
+    out.append(f"{'-' * 20} OUTPUTS {'-' * 43}")
+    for name in model.outputs:
+        _check_token(name, "output channel")
+    out += list(model.outputs)
+    out.append("-" * 20 + " need this final dashed line " + "-" * 24)
+    path.write_text("\n".join(out) + "\n", encoding="utf-8")
+    return path
