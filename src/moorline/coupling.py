@@ -318,20 +318,27 @@ class System:
         else:
             seg_min = float(np.min(L.seg_l0))
             cfl_ic = min(float(opts.CFL), 1.0)
-            ok, tic, emean, it = stationary_solve(self.y, self.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
-                                                  cfl_ic, seg_min, L, P, E, self._motion, W, self._S,
-                                                  self._ftmp)
-            if not np.all(np.isfinite(self.y)):
+            status, tic, emean, it = stationary_solve(self.y, self.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
+                                                      cfl_ic, seg_min, L, P, E, self._motion, W, self._S,
+                                                      self._ftmp)
+            if status < 0 or not np.all(np.isfinite(self.y)):
                 raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
                                       "try ICgenDynamic 1 or a smaller dtM", time=0.0)
-            self.ic_report.update(method="stationary", converged=bool(ok), pseudo_time=float(tic),
-                                  iterations=int(it), mean_acceleration=float(emean))
-        if self.ic_report["converged"]:
-            log.info("initial conditions converged (%s) after %.4g s of pseudo time",
-                     self.ic_report["method"], self.ic_report["pseudo_time"])
+            self.ic_report.update(method="stationary", converged=bool(status == 1), stalled=bool(status == 2),
+                                  pseudo_time=float(tic), iterations=int(it), mean_acceleration=float(emean))
+        rep = self.ic_report
+        g = self.layout.env.g
+        if rep["converged"]:
+            log.info("initial conditions converged (%s) after %.4g s of pseudo time", rep["method"],
+                     rep["pseudo_time"])
+        elif rep.get("stalled"):
+            level = logging.WARNING if rep["mean_acceleration"] > 0.01 * g else logging.INFO
+            log.log(level, "initial-condition solver stopped after %.4g s of pseudo time because its error stalled "
+                    "(as MoorDyn's does); mean residual acceleration %.3g m/s^2", rep["pseudo_time"],
+                    rep["mean_acceleration"])
         else:
             log.warning("initial conditions did NOT converge (%s) within TmaxIC = %.4g s; the dynamics "
-                        "start from the last iterate", self.ic_report["method"], opts.TmaxIC)
+                        "start from the last iterate", rep["method"], opts.TmaxIC)
 
     def _report_stability(self) -> None:
         zbed = -self.layout.env.depth

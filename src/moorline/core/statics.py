@@ -80,7 +80,10 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
 
     Returns
     -------
-    converged : bool
+    status : int
+        1: converged (error below threshIC of its first value, or zero); 2: the error stalled
+        (relative change over dtIC below threshIC; MoorDyn stops there too); 0: TmaxIC reached;
+        -1: non-finite state.
     t : float
         Pseudo time used [s].
     E_mean : float
@@ -90,7 +93,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
     nrow = y.size // 6
     uoff = 3 * nrow
     if nrow == 0:
-        return True, 0.0, 0.0, 0
+        return 1, 0.0, 0.0, 0
     dy = S[0]
     qprev = S[1]
     for i in range(uoff, y.size):
@@ -118,7 +121,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
         b = min(max(b, 0.1), 50.0)
         e_last = e
         if not np.isfinite(e):
-            return False, t, e / nrow, it
+            return -1, t, e / nrow, it
         dte = b * dtM
         if e > 0.0:
             lim = cfl_ic * seg_min / (0.5 * dtM * e)
@@ -132,12 +135,12 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
         if t >= next_check - 1e-12:
             next_check += dtIC
             if e == 0.0 or e / e0 < threshIC:
-                return True, t, e / nrow, it
+                return 1, t, e / nrow, it
             if e_check > 0.0 and abs(e_check - e) / e_check < threshIC:
-                return True, t, e / nrow, it
+                return 2, t, e / nrow, it
             e_check = e
         if t >= TmaxIC:
-            return False, t, e / nrow, it
+            return 0, t, e / nrow, it
 
 
 @njit(cache=True)
