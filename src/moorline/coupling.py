@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .core.catenary import CatenaryStatus
 from .core.integrate import advance, parse_scheme
 from .core.layout import P_FREE, Motion, build_layout, static_motion, step_motion
 from .core.rhs import rhs
@@ -291,9 +292,10 @@ class System:
         self.t = 0.0
         self._motion = static_motion(x)
         failed = catenary_start(self.layout, x, self.y)
-        for li in failed:
-            log.warning("line %d: catenary solve unsuccessful; starting from the straight chord", li + 1)
-        self.ic_report = {"catenary_failed": [li + 1 for li in failed]}
+        for li, status in failed:
+            log.warning("line %d: catenary solve unsuccessful (%s); starting from the straight chord", li + 1,
+                        CatenaryStatus(status).name.lower())
+        self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
         if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows > 0:
             self._solve_ic()

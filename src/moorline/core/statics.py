@@ -9,6 +9,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
 from .integrate import advance
 from .layout import ATT_POINT, P_COUPLED, P_FREE, Layout
 from .rhs import rhs
@@ -32,10 +33,9 @@ def end_points(layout: Layout, x_coupled: np.ndarray, li: int) -> tuple[np.ndarr
 
 def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, cat_tol: float = 1e-5) -> list[int]:
     """Place every line on its quasi-static catenary (spec 6.2) and free points at their deck
-    positions; velocities zero. Returns the (0-based) lines whose catenary solve failed and were
-    left on the straight chord."""
-    from .catenary import catenary_nodes
-
+    positions; velocities zero. Returns ``(line index, status)`` of the lines whose catenary solve
+    failed and were left on the straight chord (a vertical line is placed on its chord by design
+    and is not a failure)."""
     L = layout.lines
     E = layout.env
     y[:] = 0.0
@@ -49,8 +49,8 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, cat_tol
         seabed = bool(min(rA[2], rB[2]) <= zb * (1.0 - 1e-5))
         EA = float(L.seg_EA[L.seg_ptr[li]])
         status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
-        if status != 0:
-            failed.append(li)
+        if status not in (STATUS_OK, STATUS_SHORT_SPAN):
+            failed.append((li, int(status)))
         for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
             row = int(L.node_row[n])
             y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
