@@ -388,18 +388,17 @@ class System:
     def _advance(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
         L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
+        last_stage = self.loads_at == "last_stage"
         t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, motion, W, 1.0,
-                                   self._S, self._ftmp, MAX_NODE_SPEED)
+                                   self._S, self._ftmp, MAX_NODE_SPEED, not last_stage)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
-        if self.loads_at == "last_stage" and piece >= 0:
-            kept = [getattr(W, f).copy() for f in self._STAGE_FIELDS]
+        if last_stage:
+            kept = [getattr(W, f).copy() for f in self._STAGE_FIELDS] if piece >= 0 else []
             self._evaluate(int(piece))
-            for f, a in zip(self._STAGE_FIELDS, kept, strict=True):
+            for f, a in zip(self._STAGE_FIELDS, kept, strict=False):
                 getattr(W, f)[...] = a
-        else:
-            self._evaluate(int(piece))
 
     # ------------------------------------------------------------------ state access
     def state_rows(self) -> list[tuple[str, int, int]]:

@@ -56,13 +56,13 @@ def parse_scheme(name: str) -> Scheme:
     return Scheme.RK2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _axpy(out, y, h, k):
     for i in range(y.size):
         out[i] = y[i] + h * k[i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def step(y, t, h, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, piece):
     """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch."""
     k1 = S[0]
@@ -91,7 +91,7 @@ def step(y, t, h, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, piece):
             y[i] += c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def check_state(y, vmax):
     """Index of the first state row with a non-finite value or a speed above ``vmax``, else -1."""
     nrow = y.size // 6
@@ -105,9 +105,11 @@ def check_state(y, vmax):
     return -1
 
 
-@njit(cache=True)
-def advance(y, t, t_end, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax):
-    """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``.
+@njit(cache=True, error_model="numpy")
+def advance(y, t, t_end, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax, final_eval):
+    """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
+    ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory
+    piece) so that the Work arrays describe the state at ``t_end``.
 
     Returns
     -------
@@ -144,4 +146,6 @@ def advance(y, t, t_end, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax):
         bad = check_state(y, vmax)
         if bad >= 0:
             return t, bad, n_steps, piece
+    if final_eval:
+        rhs(t, y, S[0], L, P, E, Mo, W, cd_scale, ftmp, piece)
     return t, -1, n_steps, piece

@@ -16,7 +16,7 @@ from numba import njit
 _EPS = 1e-12
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def table_interp(x, y, start, n, v):
     """Piecewise-linear interpolation in ``x[start:start+n]``, clamped at both ends."""
     if v <= x[start]:
@@ -36,7 +36,7 @@ def table_interp(x, y, start, n, v):
     return y[lo] + f * (y[hi] - y[lo])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def segment_wet_fraction(ra, rb, zeta_a, zeta_b, d):
     """Submerged fraction of a segment between points ``ra`` and ``rb`` (spec 3.6)."""
     zs = 0.5 * (zeta_a + zeta_b)
@@ -66,7 +66,7 @@ def segment_wet_fraction(ra, rb, zeta_a, zeta_b, d):
     return -zlow / (-zlow + zup)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def line_forces(li, L, E, W, cd_scale):
     """Evaluate every load of line ``li`` and the accelerations of its internal nodes.
 
@@ -293,7 +293,7 @@ def line_forces(li, L, E, W, cd_scale):
             W.kurv[n] = 4.0 / (la + lb) * math.sqrt(0.5 * (1.0 - c))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def add_end_mass(M, p, m, ma, mq, q):
     """Add a line end node's mass matrix m I + ma (I - q q^T) + mq q q^T to point ``p``."""
     for a in range(3):
@@ -305,7 +305,7 @@ def add_end_mass(M, p, m, ma, mq, q):
             M[p, a, b] += val
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def solve3(M, f, out):
     """Solve the 3x3 system M x = f (Cramer's rule) into ``out``; returns False if singular."""
     a = M[0, 0]

@@ -15,7 +15,7 @@ from .layout import ATT_POINT, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def motion_piece(Mo, t):
     """Index of the trajectory piece holding time ``t`` (right-continuous at knots, clamped)."""
     lo = 0
@@ -29,7 +29,7 @@ def motion_piece(Mo, t):
     return lo
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def motion_eval(Mo, t, piece, x, v, a):
     """Evaluate the coupled trajectory ``Mo`` at time ``t`` into x, v, a, on trajectory piece
     ``piece`` (or, when negative, on the piece that holds ``t``). A time step never straddles a knot
@@ -46,7 +46,7 @@ def motion_eval(Mo, t, piece, x, v, a):
         a[j] = 2.0 * c2 + 6.0 * s * c3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def set_kinematics(t, y, L, P, Mo, W, piece):
     """Points and line nodes from the state ``y`` and the coupled trajectory at time ``t``."""
     nrow = y.size // 6
@@ -87,7 +87,7 @@ def set_kinematics(t, y, L, P, Mo, W, piece):
                 W.v[n, c] = y[uoff + o + c]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def point_loads(P, E, W, cd_scale, ftmp):
     """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
     for p in range(P.kind.size):
@@ -108,7 +108,7 @@ def point_loads(P, E, W, cd_scale, ftmp):
             solve3(W.pM[p], ftmp, W.pa[p])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 

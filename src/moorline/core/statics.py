@@ -62,7 +62,7 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, cat_tol
     return failed
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _accel_norm_sum(dy):
     nrow = dy.size // 6
     uoff = 3 * nrow
@@ -73,7 +73,7 @@ def _accel_norm_sum(dy):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, Mo, W, S, ftmp):
     """MoorDyn's stationary initial-condition solver (spec 6.3): pseudo-time steps along the
     accelerations with all velocities held at zero.
@@ -143,7 +143,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
             return 0, t, e / nrow, it
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _fairlead_tensions(L, W, out):
     for li in range(L.seg_ptr.size - 1):
         s = L.seg_ptr[li + 1] - 1
@@ -153,7 +153,7 @@ def _fairlead_tensions(L, W, out):
         out[li] = math.sqrt(fx * fx + fy * fy + fz * fz)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E, Mo, W, S, ftmp, vmax):
     """MoorDyn's legacy initial-condition solver (spec 6.4): integrate with drag scaled by
     ``cd_scale`` until the end-B tension of every line changes by less than ``threshIC``
@@ -169,7 +169,7 @@ def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax, False)
         if bad >= 0:
             return False, t, bad
         rhs(t, y, S[0], L, P, E, Mo, W, cd_scale, ftmp, -1)
