@@ -13,9 +13,12 @@ Package layout and the direction of its dependencies (keep it):
 Nothing below imports from a layer above it.
 """
 
-from .errors import DeckError, SimulationError
-from .model import Model
-
 __version__ = "0.1.0"
 
-__all__ = ["DeckError", "Model", "SimulationError", "__version__"]
+from .coupling import System  # noqa: E402
+from .errors import DeckError, SimulationError  # noqa: E402
+from .model import Model  # noqa: E402
+from .motion import Trajectory  # noqa: E402
+from .simulate import simulate  # noqa: E402  (the function shadows its module's name on purpose)
+
+__all__ = ["DeckError", "Model", "SimulationError", "System", "Trajectory", "__version__", "simulate"]
