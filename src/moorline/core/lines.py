@@ -42,10 +42,12 @@ def segment_wet_fraction(ra, rb, zeta_a, zeta_b, d):
     zs = 0.5 * (zeta_a + zeta_b)
     za = ra[2] - zs
     zb = rb[2] - zs
-    if za <= 0.0 and zb <= 0.0:
+    if za <= 0.0 and zb < 0.0:
         return 1.0
-    if za >= 0.0 and zb >= 0.0:
+    if za > 0.0 and zb > 0.0:
         return 0.0
+    if za == -zb:
+        return 0.5
     # the segment pierces the surface: widen it by d/2 normal to its axis in the vertical plane
     sx = rb[0] - ra[0]
     sy = rb[1] - ra[1]
