@@ -96,8 +96,32 @@ def line_forces(li, L, E, W, cd_scale):
     ean = L.ea_tab[li, 1]
     ba0 = L.ba_tab[li, 0]
     ban = L.ba_tab[li, 1]
+
+    # arrays bound once per call: reading them from the NamedTuple inside the loops costs a
+    # reference-count update per access
+    seg_l0 = L.seg_l0
+    seg_EA = L.seg_EA
+    seg_BA = L.seg_BA
+    tab_x = L.tab_x
+    tab_y = L.tab_y
     r = W.r
     v = W.v
+    w_U = W.U
+    w_Ud = W.Ud
+    w_zeta = W.zeta
+    w_T = W.T
+    w_Td = W.Td
+    w_seg_len = W.seg_len
+    w_seg_ldot = W.seg_ldot
+    w_seg_F = W.seg_F
+    w_q = W.q
+    w_F = W.F
+    w_Fhyd = W.Fhyd
+    w_Fbed = W.Fbed
+    w_W = W.W
+    w_mass = W.mass
+    w_acc = W.acc
+    w_kurv = W.kurv
 
     # ---- segments: length, direction, strain, tension, damping, submergence
     for k in range(N):
@@ -117,34 +141,34 @@ def line_forces(li, L, E, W, cd_scale):
             ey = 0.0
             ez = 0.0
         ldot = ex * (v[b, 0] - v[a, 0]) + ey * (v[b, 1] - v[a, 1]) + ez * (v[b, 2] - v[a, 2])
-        l0 = L.seg_l0[s]
+        l0 = seg_l0[s]
         strain = ls / l0 - 1.0
         if strain > 0.0:
             if ean > 0:
-                Tm = table_interp(L.tab_x, L.tab_y, ea0, ean, strain)
+                Tm = table_interp(tab_x, tab_y, ea0, ean, strain)
             else:
-                Tm = L.seg_EA[s] * strain
+                Tm = seg_EA[s] * strain
         else:
             Tm = 0.0
         rate = ldot / l0
         if ban > 0:
-            if L.tab_x[ba0] < 0.0:
-                Dm = table_interp(L.tab_x, L.tab_y, ba0, ban, rate)
+            if tab_x[ba0] < 0.0:
+                Dm = table_interp(tab_x, tab_y, ba0, ban, rate)
             else:
-                Dm = table_interp(L.tab_x, L.tab_y, ba0, ban, abs(rate))
+                Dm = table_interp(tab_x, tab_y, ba0, ban, abs(rate))
                 if rate < 0.0:
                     Dm = -Dm
         else:
-            Dm = L.seg_BA[s] * rate
-        W.T[s, 0] = Tm * ex
-        W.T[s, 1] = Tm * ey
-        W.T[s, 2] = Tm * ez
-        W.Td[s, 0] = Dm * ex
-        W.Td[s, 1] = Dm * ey
-        W.Td[s, 2] = Dm * ez
-        W.seg_len[s] = ls
-        W.seg_ldot[s] = ldot
-        W.seg_F[s] = segment_wet_fraction(r[a], r[b], W.zeta[a], W.zeta[b], d)
+            Dm = seg_BA[s] * rate
+        w_T[s, 0] = Tm * ex
+        w_T[s, 1] = Tm * ey
+        w_T[s, 2] = Tm * ez
+        w_Td[s, 0] = Dm * ex
+        w_Td[s, 1] = Dm * ey
+        w_Td[s, 2] = Dm * ez
+        w_seg_len[s] = ls
+        w_seg_ldot[s] = ldot
+        w_seg_F[s] = segment_wet_fraction(r[a], r[b], w_zeta[a], w_zeta[b], d)
 
     # ---- nodes
     zbed = -E.depth
@@ -168,21 +192,21 @@ def line_forces(li, L, E, W, cd_scale):
             qx /= qn
             qy /= qn
             qz /= qn
-        W.q[n, 0] = qx
-        W.q[n, 1] = qy
-        W.q[n, 2] = qz
+        w_q[n, 0] = qx
+        w_q[n, 1] = qy
+        w_q[n, 2] = qz
 
         # lengths: unstretched nodal length and submerged nodal length
         lam = 0.0
         lamw = 0.0
         if i > 0:
-            lL = L.seg_l0[s0 + i - 1]
+            lL = seg_l0[s0 + i - 1]
             lam += 0.5 * lL
-            lamw += 0.5 * lL * W.seg_F[s0 + i - 1]
+            lamw += 0.5 * lL * w_seg_F[s0 + i - 1]
         if i < N:
-            lR = L.seg_l0[s0 + i]
+            lR = seg_l0[s0 + i]
             lam += 0.5 * lR
-            lamw += 0.5 * lR * W.seg_F[s0 + i]
+            lamw += 0.5 * lR * w_seg_F[s0 + i]
         m = w * lam
         vol = A * lamw
 
@@ -192,25 +216,25 @@ def line_forces(li, L, E, W, cd_scale):
         fz = 0.0
         if i < N:
             s = s0 + i
-            fx += W.T[s, 0] + W.Td[s, 0]
-            fy += W.T[s, 1] + W.Td[s, 1]
-            fz += W.T[s, 2] + W.Td[s, 2]
+            fx += w_T[s, 0] + w_Td[s, 0]
+            fy += w_T[s, 1] + w_Td[s, 1]
+            fz += w_T[s, 2] + w_Td[s, 2]
         if i > 0:
             s = s0 + i - 1
-            fx -= W.T[s, 0] + W.Td[s, 0]
-            fy -= W.T[s, 1] + W.Td[s, 1]
-            fz -= W.T[s, 2] + W.Td[s, 2]
+            fx -= w_T[s, 0] + w_Td[s, 0]
+            fy -= w_T[s, 1] + w_Td[s, 1]
+            fz -= w_T[s, 2] + w_Td[s, 2]
 
         # weight and buoyancy
         wz = -g * (m - rho * vol)
-        W.W[n, 0] = 0.0
-        W.W[n, 1] = 0.0
-        W.W[n, 2] = wz
+        w_W[n, 0] = 0.0
+        w_W[n, 1] = 0.0
+        w_W[n, 2] = wz
 
         # Morison drag on the relative velocity, split along the tangent
-        ux = W.U[n, 0] - v[n, 0]
-        uy = W.U[n, 1] - v[n, 1]
-        uz = W.U[n, 2] - v[n, 2]
+        ux = w_U[n, 0] - v[n, 0]
+        uy = w_U[n, 1] - v[n, 1]
+        uz = w_U[n, 2] - v[n, 2]
         uq = ux * qx + uy * qy + uz * qz
         uqx = uq * qx
         uqy = uq * qy
@@ -222,15 +246,15 @@ def line_forces(li, L, E, W, cd_scale):
         cp = 0.5 * rho * Cd * d * lamw * upm
         cq = 0.5 * rho * CdAx * math.pi * d * lamw * abs(uq)
         # fluid inertia (Froude-Krylov + added mass of the fluid acceleration)
-        aq = W.Ud[n, 0] * qx + W.Ud[n, 1] * qy + W.Ud[n, 2] * qz
+        aq = w_Ud[n, 0] * qx + w_Ud[n, 1] * qy + w_Ud[n, 2] * qz
         ip = rho * (1.0 + Ca) * vol
         iq = rho * (1.0 + CaAx) * vol
-        hx = cp * upx + cq * uqx + ip * (W.Ud[n, 0] - aq * qx) + iq * aq * qx
-        hy = cp * upy + cq * uqy + ip * (W.Ud[n, 1] - aq * qy) + iq * aq * qy
-        hz = cp * upz + cq * uqz + ip * (W.Ud[n, 2] - aq * qz) + iq * aq * qz
-        W.Fhyd[n, 0] = hx
-        W.Fhyd[n, 1] = hy
-        W.Fhyd[n, 2] = hz
+        hx = cp * upx + cq * uqx + ip * (w_Ud[n, 0] - aq * qx) + iq * aq * qx
+        hy = cp * upy + cq * uqy + ip * (w_Ud[n, 1] - aq * qy) + iq * aq * qy
+        hz = cp * upz + cq * uqz + ip * (w_Ud[n, 2] - aq * qz) + iq * aq * qz
+        w_Fhyd[n, 0] = hx
+        w_Fhyd[n, 1] = hy
+        w_Fhyd[n, 2] = hz
 
         # seabed contact (vertical, flat bed) and MoorDyn-C isotropic friction
         bx = 0.0
@@ -246,53 +270,53 @@ def line_forces(li, L, E, W, cd_scale):
                     ff = flin if flin <= E.stat_dyn * E.mu * nrm else E.mu * nrm
                     bx = -ff * v[n, 0] / vh
                     by = -ff * v[n, 1] / vh
-        W.Fbed[n, 0] = bx
-        W.Fbed[n, 1] = by
-        W.Fbed[n, 2] = bz
+        w_Fbed[n, 0] = bx
+        w_Fbed[n, 1] = by
+        w_Fbed[n, 2] = bz
 
         fx += hx + bx
         fy += hy + by
         fz += wz + hz + bz
-        W.F[n, 0] = fx
-        W.F[n, 1] = fy
-        W.F[n, 2] = fz
+        w_F[n, 0] = fx
+        w_F[n, 1] = fy
+        w_F[n, 2] = fz
 
         ma = rho * vol * Ca
         mq = rho * vol * CaAx
-        W.mass[n, 0] = m
-        W.mass[n, 1] = ma
-        W.mass[n, 2] = mq
+        w_mass[n, 0] = m
+        w_mass[n, 1] = ma
+        w_mass[n, 2] = mq
         if 0 < i < N:
             # closed-form inverse of m I + ma (I - q q^T) + mq q q^T
             fq = fx * qx + fy * qy + fz * qz
             ip = 1.0 / (m + ma)
             iq = 1.0 / (m + mq)
-            W.acc[n, 0] = (fx - fq * qx) * ip + fq * qx * iq
-            W.acc[n, 1] = (fy - fq * qy) * ip + fq * qy * iq
-            W.acc[n, 2] = (fz - fq * qz) * ip + fq * qz * iq
+            w_acc[n, 0] = (fx - fq * qx) * ip + fq * qx * iq
+            w_acc[n, 1] = (fy - fq * qy) * ip + fq * qy * iq
+            w_acc[n, 2] = (fz - fq * qz) * ip + fq * qz * iq
         else:
-            W.acc[n, 0] = 0.0
-            W.acc[n, 1] = 0.0
-            W.acc[n, 2] = 0.0
+            w_acc[n, 0] = 0.0
+            w_acc[n, 1] = 0.0
+            w_acc[n, 2] = 0.0
 
     # ---- geometric curvature at internal nodes (spec 3.10); zero at pinned ends
-    W.kurv[n0] = 0.0
-    W.kurv[n0 + N] = 0.0
+    w_kurv[n0] = 0.0
+    w_kurv[n0 + N] = 0.0
     for i in range(1, N):
         sa = s0 + i - 1
         sb = s0 + i
-        la = W.seg_len[sa]
-        lb = W.seg_len[sb]
+        la = w_seg_len[sa]
+        lb = w_seg_len[sb]
         if la <= 0.0 or lb <= 0.0:
-            W.kurv[n0 + i] = 0.0
+            w_kurv[n0 + i] = 0.0
             continue
         n = n0 + i
         c = ((r[n, 0] - r[n - 1, 0]) * (r[n + 1, 0] - r[n, 0]) + (r[n, 1] - r[n - 1, 1]) * (r[n + 1, 1] - r[n, 1])
              + (r[n, 2] - r[n - 1, 2]) * (r[n + 1, 2] - r[n, 2])) / (la * lb)
         if c >= 1.0 - 2.220446049250313e-16:
-            W.kurv[n] = 0.0
+            w_kurv[n] = 0.0
         else:
-            W.kurv[n] = 4.0 / (la + lb) * math.sqrt(0.5 * (1.0 - c))
+            w_kurv[n] = 4.0 / (la + lb) * math.sqrt(0.5 * (1.0 - c))
 
 
 @njit(cache=True, error_model="numpy")

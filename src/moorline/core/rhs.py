@@ -49,63 +49,90 @@ def motion_eval(Mo, t, piece, x, v, a):
 @njit(cache=True, error_model="numpy")
 def set_kinematics(t, y, L, P, Mo, W, piece):
     """Points and line nodes from the state ``y`` and the coupled trajectory at time ``t``."""
+    # arrays are bound to locals once: reading them from a NamedTuple inside a loop costs a
+    # reference-count update per access
+    pr = W.pr
+    pv = W.pv
+    pa = W.pa
+    r = W.r
+    v = W.v
+    xc = W.xc
+    vc = W.vc
+    kind = P.kind
+    r0 = P.r0
+    cpl = P.cpl
+    prow = P.row
+    node_ptr = L.node_ptr
+    node_row = L.node_row
+    end_kind = L.end_kind
+    end_idx = L.end_idx
     nrow = y.size // 6
     uoff = 3 * nrow
-    if W.xc.size > 0:
-        motion_eval(Mo, t, piece, W.xc, W.vc, W.ac)
-    for p in range(P.kind.size):
-        k = P.kind[p]
+    if xc.size > 0:
+        motion_eval(Mo, t, piece, xc, vc, W.ac)
+    for p in range(kind.size):
+        k = kind[p]
         if k == P_FIXED:
             for c in range(3):
-                W.pr[p, c] = P.r0[p, c]
-                W.pv[p, c] = 0.0
-                W.pa[p, c] = 0.0
+                pr[p, c] = r0[p, c]
+                pv[p, c] = 0.0
+                pa[p, c] = 0.0
         elif k == P_COUPLED:
-            o = P.cpl[p]
+            o = cpl[p]
             for c in range(3):
-                W.pr[p, c] = W.xc[o + c]
-                W.pv[p, c] = W.vc[o + c]
-                W.pa[p, c] = W.ac[o + c]
+                pr[p, c] = xc[o + c]
+                pv[p, c] = vc[o + c]
+                pa[p, c] = W.ac[o + c]
         elif k == P_FREE:
-            o = 3 * P.row[p]
+            o = 3 * prow[p]
             for c in range(3):
-                W.pr[p, c] = y[o + c]
-                W.pv[p, c] = y[uoff + o + c]
-    nl = L.node_ptr.size - 1
+                pr[p, c] = y[o + c]
+                pv[p, c] = y[uoff + o + c]
+    nl = node_ptr.size - 1
     for li in range(nl):
         for j in range(2):
-            n = L.node_ptr[li] if j == 0 else L.node_ptr[li + 1] - 1
-            if L.end_kind[li, j] == ATT_POINT:
-                p = L.end_idx[li, j]
+            n = node_ptr[li] if j == 0 else node_ptr[li + 1] - 1
+            if end_kind[li, j] == ATT_POINT:
+                p = end_idx[li, j]
                 for c in range(3):
-                    W.r[n, c] = W.pr[p, c]
-                    W.v[n, c] = W.pv[p, c]
-        for n in range(L.node_ptr[li] + 1, L.node_ptr[li + 1] - 1):
-            o = 3 * L.node_row[n]
+                    r[n, c] = pr[p, c]
+                    v[n, c] = pv[p, c]
+        for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
+            o = 3 * node_row[n]
             for c in range(3):
-                W.r[n, c] = y[o + c]
-                W.v[n, c] = y[uoff + o + c]
+                r[n, c] = y[o + c]
+                v[n, c] = y[uoff + o + c]
 
 
 @njit(cache=True, error_model="numpy")
 def point_loads(P, E, W, cd_scale, ftmp):
     """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
-    for p in range(P.kind.size):
-        ux = W.pU[p, 0] - W.pv[p, 0]
-        uy = W.pU[p, 1] - W.pv[p, 1]
-        uz = W.pU[p, 2] - W.pv[p, 2]
+    pU = W.pU
+    pv = W.pv
+    pF = W.pF
+    pM = W.pM
+    kind = P.kind
+    CdA = P.CdA
+    F_ext = P.F_ext
+    V = P.V
+    m = P.m
+    Ca = P.Ca
+    for p in range(kind.size):
+        ux = pU[p, 0] - pv[p, 0]
+        uy = pU[p, 1] - pv[p, 1]
+        uz = pU[p, 2] - pv[p, 2]
         um = math.sqrt(ux * ux + uy * uy + uz * uz)
-        cd = 0.5 * E.rho * P.CdA[p] * cd_scale * um
-        W.pF[p, 0] += P.F_ext[p, 0] + cd * ux
-        W.pF[p, 1] += P.F_ext[p, 1] + cd * uy
-        W.pF[p, 2] += P.F_ext[p, 2] + cd * uz + E.g * (E.rho * P.V[p] - P.m[p])
-        madd = P.m[p] + E.rho * P.Ca[p] * P.V[p]
+        cd = 0.5 * E.rho * CdA[p] * cd_scale * um
+        pF[p, 0] += F_ext[p, 0] + cd * ux
+        pF[p, 1] += F_ext[p, 1] + cd * uy
+        pF[p, 2] += F_ext[p, 2] + cd * uz + E.g * (E.rho * V[p] - m[p])
+        madd = m[p] + E.rho * Ca[p] * V[p]
         for c in range(3):
-            W.pM[p, c, c] += madd
-        if P.kind[p] == P_FREE:
+            pM[p, c, c] += madd
+        if kind[p] == P_FREE:
             for c in range(3):
-                ftmp[c] = W.pF[p, c]
-            solve3(W.pM[p], ftmp, W.pa[p])
+                ftmp[c] = pF[p, c]
+            solve3(pM[p], ftmp, W.pa[p])
 
 
 @njit(cache=True, error_model="numpy")
@@ -127,22 +154,35 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
         Piece of the coupled trajectory to evaluate (-1: the piece holding ``t``).
     """
     set_kinematics(t, y, L, P, Mo, W, piece)
-    npnt = P.kind.size
+    pF = W.pF
+    pM = W.pM
+    pa = W.pa
+    F = W.F
+    mass = W.mass
+    q = W.q
+    acc = W.acc
+    kind = P.kind
+    prow = P.row
+    node_ptr = L.node_ptr
+    node_row = L.node_row
+    end_kind = L.end_kind
+    end_idx = L.end_idx
+    npnt = kind.size
     for p in range(npnt):
         for a in range(3):
-            W.pF[p, a] = 0.0
+            pF[p, a] = 0.0
             for b in range(3):
-                W.pM[p, a, b] = 0.0
-    nl = L.node_ptr.size - 1
+                pM[p, a, b] = 0.0
+    nl = node_ptr.size - 1
     for li in range(nl):
         line_forces(li, L, E, W, cd_scale)
         for j in range(2):
-            n = L.node_ptr[li] if j == 0 else L.node_ptr[li + 1] - 1
-            if L.end_kind[li, j] == ATT_POINT:
-                p = L.end_idx[li, j]
+            n = node_ptr[li] if j == 0 else node_ptr[li + 1] - 1
+            if end_kind[li, j] == ATT_POINT:
+                p = end_idx[li, j]
                 for c in range(3):
-                    W.pF[p, c] += W.F[n, c]
-                add_end_mass(W.pM, p, W.mass[n, 0], W.mass[n, 1], W.mass[n, 2], W.q[n])
+                    pF[p, c] += F[n, c]
+                add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q[n])
     point_loads(P, E, W, cd_scale, ftmp)
 
     nrow = y.size // 6
@@ -150,14 +190,14 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
     for i in range(3 * nrow):
         dy[i] = y[uoff + i]
     for li in range(nl):
-        for n in range(L.node_ptr[li] + 1, L.node_ptr[li + 1] - 1):
-            o = uoff + 3 * L.node_row[n]
-            dy[o] = W.acc[n, 0]
-            dy[o + 1] = W.acc[n, 1]
-            dy[o + 2] = W.acc[n, 2]
+        for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
+            o = uoff + 3 * node_row[n]
+            dy[o] = acc[n, 0]
+            dy[o + 1] = acc[n, 1]
+            dy[o + 2] = acc[n, 2]
     for p in range(npnt):
-        if P.kind[p] == P_FREE:
-            o = uoff + 3 * P.row[p]
-            dy[o] = W.pa[p, 0]
-            dy[o + 1] = W.pa[p, 1]
-            dy[o + 2] = W.pa[p, 2]
+        if kind[p] == P_FREE:
+            o = uoff + 3 * prow[p]
+            dy[o] = pa[p, 0]
+            dy[o + 1] = pa[p, 1]
+            dy[o + 2] = pa[p, 2]

@@ -1,0 +1,196 @@
+"""Wall time of moorline against MoorDyn (the ``moordyn`` package), side by side in one process.
+
+    python benchmarks/bench_vs_moordyn.py [--repeat 3] [--cases example,catenary_3line_surge,...]
+
+Both codes run the same deck with the same time scheme and dtM, driven the same way: outer
+coupling steps of ``dt`` with x_k and v_k = (X(t_{k+1}) - X(t_k))/dt (MoorDyn_Step), moorline
+through ``System.step`` (the same contract, one call per outer step) and also through one
+``advance_to`` call per output interval (its compiled loop over many outer steps). Initial
+conditions are solved once and excluded; the first (compiling) moorline call is excluded and
+reported separately. Reported: wall time (median of ``--repeat``), real-time factor, node-steps
+per second and the ratio moorline / MoorDyn.
+
+Not part of the test suite: timings depend on the machine and on what else runs on it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import os
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("MOORLINE_SHARED", ROOT.parent / "shared"))
+CONF = SHARED / "conformance"
+
+
+@contextlib.contextmanager
+def quiet_fds():
+    """Silence MoorDyn's console output (C-level stdout/stderr)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = os.dup(1), os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 1)
+    os.dup2(devnull, 2)
+    try:
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        os.close(devnull)
+        os.close(saved[0])
+        os.close(saved[1])
+
+
+def sine_motion(X0, amplitude, period, direction, ramp):
+    d = np.tile(np.asarray(direction, dtype=float), len(X0) // 3)
+
+    def X(t):
+        u = min(t / ramp, 1.0) if ramp > 0 else 1.0
+        s = u**3 * (6 * u * u - 15 * u + 10)
+        return X0 + d * (s * amplitude * math.sin(2 * math.pi * t / period))
+
+    return X
+
+
+def cases():
+    """name -> (deck path, motion factory X0 -> X(t), duration [s], outer dt [s])"""
+    ex = ROOT / "examples" / "catenary_3line" / "catenary_3line.dat"
+    out = {"example_3line_chain": (ex, lambda X0: sine_motion(X0, 6.0, 20.0, (1, 0, 0), 10.0), 60.0, 0.1)}
+    if CONF.exists():
+        out["catenary_3line_surge"] = (CONF / "inputs/catenary_3line/lines.txt",
+                                       lambda X0: sine_motion(X0, 5.0, 20.0, (1, 0, 0), 20.0), 120.0, 0.1)
+        out["bridle_clump_buoy_surge"] = (CONF / "inputs/bridle_clump_buoy/bridle_clump_buoy.txt",
+                                          lambda X0: sine_motion(X0, 8.0, 25.0, (1, 0.25, 0), 25.0), 150.0, 0.1)
+        out["pendulum_point_mass_RK4"] = (CONF / "inputs/pendulum/pendulum.txt", None, 100.0, 0.1)
+    return out
+
+
+def run_moordyn(deck: Path, motion, duration, dt):
+    import moordyn as md
+
+    work = Path(tempfile.mkdtemp(prefix="bench_md_"))
+    shutil.copytree(deck.parent, work / "case")
+    cwd = os.getcwd()
+    os.chdir(work / "case")
+    try:
+        with quiet_fds():
+            s = md.Create(deck.name)
+            n = md.NCoupledDOF(s)
+            X0 = np.zeros(n)
+            k = 0
+            for i in range(1, md.GetNumberPoints(s) + 1):
+                P = md.GetPoint(s, i)
+                if md.GetPointType(P) == -1:
+                    X0[3 * k:3 * k + 3] = md.GetPointPos(P)
+                    k += 1
+            X = motion(X0) if motion else (lambda t: X0)
+            md.Init(s, list(X(0.0)), [0.0] * n)
+            nsteps = int(round(duration / dt))
+            t0 = time.perf_counter()
+            for k in range(nsteps):
+                xk = X(k * dt)
+                vk = (X((k + 1) * dt) - xk) / dt
+                f = md.Step(s, list(xk), list(vk), k * dt, dt)
+            wall = time.perf_counter() - t0
+            nodes = sum(md.GetLineN(md.GetLine(s, i)) + 1 for i in range(1, md.GetNumberLines(s) + 1))
+            md.Close(s)
+    finally:
+        os.chdir(cwd)
+        shutil.rmtree(work, ignore_errors=True)
+    return wall, nodes, np.asarray(f)
+
+
+def run_moorline(deck: Path, motion, duration, dt, mode):
+    from moorline import System
+    from moorline.motion import Trajectory
+
+    s = System.from_file(deck)
+    X0 = s.deck_coupled_positions()
+    X = motion(X0) if motion else (lambda t: X0)
+    s.init(X(0.0), np.zeros(s.n_coupled_dof))
+    nsteps = int(round(duration / dt))
+    t0 = time.perf_counter()
+    if mode == "step":
+        for k in range(nsteps):
+            xk = X(k * dt)
+            vk = (X((k + 1) * dt) - xk) / dt
+            f = s.step(xk, vk, k * dt, dt)
+    else:
+        traj = Trajectory.from_function(X, nsteps * dt, dt, "linear")
+        m = traj.as_motion()
+        for k in range(1, int(round(duration)) + 1):
+            s.advance_to(float(k), m)
+        f = s.coupled_forces()
+    wall = time.perf_counter() - t0
+    nodes = int(s.layout.lines.node_ptr[-1])
+    return wall, nodes, f, s
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--cases", help="comma-separated subset")
+    a = ap.parse_args(argv)
+    all_cases = cases()
+    names = a.cases.split(",") if a.cases else list(all_cases)
+    try:
+        import moordyn  # noqa: F401
+        have_md = True
+    except ImportError:
+        have_md = False
+        print("moordyn is not installed: moorline timings only")
+
+    # first call compiles (or loads the cache): timed once, apart
+    from moorline import System
+
+    t0 = time.perf_counter()
+    s = System.from_file(all_cases[names[0]][0])
+    s.init(solve_ic=False)
+    s.step(s.deck_coupled_positions(), np.zeros(s.n_coupled_dof), 0.0, 0.01)
+    print(f"first moorline call (load + compile or cache): {time.perf_counter() - t0:.2f} s\n")
+
+    head = (f"{'case':<26}{'nodes':>6} {'scheme':>6} {'dtM':>9} {'sim s':>6} {'code':>22} {'wall s':>8} "
+            f"{'x real':>7} {'node-steps/s':>13} {'ratio':>6}")
+    print(head)
+    print("-" * len(head))
+    for name in names:
+        deck, motion, duration, dt = all_cases[name]
+        md_wall = math.nan
+        if have_md:
+            md_times = []
+            for _ in range(a.repeat):
+                w, nodes_md, f_md = run_moordyn(deck, motion, duration, dt)
+                md_times.append(w)
+            md_wall = statistics.median(md_times)
+        for mode in ("step", "advance"):
+            times = []
+            for _ in range(a.repeat):
+                w, nodes, f, s = run_moorline(deck, motion, duration, dt, mode)
+                times.append(w)
+            wall = statistics.median(times)
+            nsteps = duration / s.dtM
+            label = "moorline step()" if mode == "step" else "moorline advance_to()"
+            print(f"{name:<26}{nodes:>6} {s.scheme.name:>6} {s.dtM:>9.3g} {duration:>6g} {label:>22} {wall:>8.3f} "
+                  f"{duration / wall:>7.1f} {nodes * nsteps / wall:>13.3g} {wall / md_wall:>6.2f}")
+        if have_md:
+            print(f"{name:<26}{nodes_md:>6} {s.scheme.name:>6} {s.dtM:>9.3g} {duration:>6g} {'MoorDyn Step()':>22} "
+                  f"{md_wall:>8.3f} {duration / md_wall:>7.1f} {nodes_md * nsteps / md_wall:>13.3g} {1.0:>6.2f}")
+            rel = np.max(np.abs(f - f_md)) / max(np.max(np.abs(f_md)), 1e-300) if f.size else 0.0
+            print(f"{'':<26}final coupled force: max relative difference moorline/MoorDyn {rel:.2e}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
