@@ -508,8 +508,9 @@ def test_wet_fraction_random_segments():
         za, zb = rng.uniform(-0.5, 0.5, size=2)
         d = rng.uniform(0.05, 0.5)
         want = wet_fraction(ra, rb, za, zb, d)
-        assert segment_wet_fraction(ra, rb, za, zb, d) == pytest.approx(want, abs=1e-12)
-        assert segment_wet_fraction(rb, ra, zb, za, d) == pytest.approx(wet_fraction(rb, ra, zb, za, d), abs=1e-12)
+        r = np.array([ra, rb])
+        assert segment_wet_fraction(r, 0, 1, za, zb, d) == pytest.approx(want, abs=1e-12)
+        assert segment_wet_fraction(r, 1, 0, zb, za, d) == pytest.approx(wet_fraction(rb, ra, zb, za, d), abs=1e-12)
 
 
 @pytest.mark.parametrize("za, zb", [(-6.0, 0.0), (6.0, 0.0), (0.0, 6.0), (0.0, -6.0)],
@@ -528,6 +529,6 @@ def test_wet_fraction_node_on_still_water_level(za, zb):
     rb = np.array([8.0, 0.0, zb])
     d = 0.5
     want = wet_fraction(ra, rb, 0.0, 0.0, d)
-    got = segment_wet_fraction(ra, rb, 0.0, 0.0, d)
+    got = segment_wet_fraction(np.array([ra, rb]), 0, 1, 0.0, 0.0, d)
     assert got == pytest.approx(want, abs=1e-12), \
         f"segment z_a = {za:g}, z_b = {zb:g}: submerged fraction {got:.6g}, spec 3.6 gives {want:.6g}"

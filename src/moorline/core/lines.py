@@ -37,11 +37,11 @@ def table_interp(x, y, start, n, v):
 
 
 @njit(cache=True, error_model="numpy")
-def segment_wet_fraction(ra, rb, zeta_a, zeta_b, d):
-    """Submerged fraction of a segment between points ``ra`` and ``rb`` (spec 3.6)."""
+def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
+    """Submerged fraction of the segment between nodes ``a`` and ``b`` of ``r`` (spec 3.6)."""
     zs = 0.5 * (zeta_a + zeta_b)
-    za = ra[2] - zs
-    zb = rb[2] - zs
+    za = r[a, 2] - zs
+    zb = r[b, 2] - zs
     if za <= 0.0 and zb < 0.0:
         return 1.0
     if za > 0.0 and zb > 0.0:
@@ -49,9 +49,9 @@ def segment_wet_fraction(ra, rb, zeta_a, zeta_b, d):
     if za == -zb:
         return 0.5
     # the segment pierces the surface: widen it by d/2 normal to its axis in the vertical plane
-    sx = rb[0] - ra[0]
-    sy = rb[1] - ra[1]
-    sz = rb[2] - ra[2]
+    sx = r[b, 0] - r[a, 0]
+    sy = r[b, 1] - r[a, 1]
+    sz = r[b, 2] - r[a, 2]
     # n parallel to s x (z x s) = z |s|^2 - s (s . z)
     ss = sx * sx + sy * sy + sz * sz
     nx = -sx * sz
@@ -168,7 +168,7 @@ def line_forces(li, L, E, W, cd_scale):
         w_Td[s, 2] = Dm * ez
         w_seg_len[s] = ls
         w_seg_ldot[s] = ldot
-        w_seg_F[s] = segment_wet_fraction(r[a], r[b], w_zeta[a], w_zeta[b], d)
+        w_seg_F[s] = segment_wet_fraction(r, a, b, w_zeta[a], w_zeta[b], d)
 
     # ---- nodes
     zbed = -E.depth
@@ -320,11 +320,12 @@ def line_forces(li, L, E, W, cd_scale):
 
 
 @njit(cache=True, error_model="numpy")
-def add_end_mass(M, p, m, ma, mq, q):
-    """Add a line end node's mass matrix m I + ma (I - q q^T) + mq q q^T to point ``p``."""
+def add_end_mass(M, p, m, ma, mq, q, n):
+    """Add the mass matrix m I + ma (I - q q^T) + mq q q^T of a line end node (tangent ``q[n]``)
+    to point ``p``."""
     for a in range(3):
         for b in range(3):
-            qq = q[a] * q[b]
+            qq = q[n, a] * q[n, b]
             val = (mq - ma) * qq
             if a == b:
                 val += m + ma
@@ -332,28 +333,31 @@ def add_end_mass(M, p, m, ma, mq, q):
 
 
 @njit(cache=True, error_model="numpy")
-def solve3(M, f, out):
-    """Solve the 3x3 system M x = f (Cramer's rule) into ``out``; returns False if singular."""
-    a = M[0, 0]
-    b = M[0, 1]
-    c = M[0, 2]
-    d = M[1, 0]
-    e = M[1, 1]
-    ff = M[1, 2]
-    g = M[2, 0]
-    h = M[2, 1]
-    k = M[2, 2]
+def solve3(M, p, f, out):
+    """Solve the 3x3 system M[p] x = f[p] (Cramer's rule) into ``out[p]``; False if singular."""
+    a = M[p, 0, 0]
+    b = M[p, 0, 1]
+    c = M[p, 0, 2]
+    d = M[p, 1, 0]
+    e = M[p, 1, 1]
+    ff = M[p, 1, 2]
+    g = M[p, 2, 0]
+    h = M[p, 2, 1]
+    k = M[p, 2, 2]
     co0 = e * k - ff * h
     co1 = ff * g - d * k
     co2 = d * h - e * g
     det = a * co0 + b * co1 + c * co2
     if det == 0.0 or not np.isfinite(det):
-        out[0] = np.nan
-        out[1] = np.nan
-        out[2] = np.nan
+        out[p, 0] = np.nan
+        out[p, 1] = np.nan
+        out[p, 2] = np.nan
         return False
     inv = 1.0 / det
-    out[0] = (co0 * f[0] + (c * h - b * k) * f[1] + (b * ff - c * e) * f[2]) * inv
-    out[1] = (co1 * f[0] + (a * k - c * g) * f[1] + (c * d - a * ff) * f[2]) * inv
-    out[2] = (co2 * f[0] + (b * g - a * h) * f[1] + (a * e - b * d) * f[2]) * inv
+    f0 = f[p, 0]
+    f1 = f[p, 1]
+    f2 = f[p, 2]
+    out[p, 0] = (co0 * f0 + (c * h - b * k) * f1 + (b * ff - c * e) * f2) * inv
+    out[p, 1] = (co1 * f0 + (a * k - c * g) * f1 + (c * d - a * ff) * f2) * inv
+    out[p, 2] = (co2 * f0 + (b * g - a * h) * f1 + (a * e - b * d) * f2) * inv
     return True

@@ -18,11 +18,12 @@ from .lines import add_end_mass, line_forces, solve3
 @njit(cache=True, error_model="numpy")
 def motion_piece(Mo, t):
     """Index of the trajectory piece holding time ``t`` (right-continuous at knots, clamped)."""
+    tk = Mo.t
     lo = 0
-    hi = Mo.t.size - 1
+    hi = tk.size - 1
     while hi - lo > 1:
         mid = (lo + hi) // 2
-        if Mo.t[mid] <= t:
+        if tk[mid] <= t:
             lo = mid
         else:
             hi = mid
@@ -36,11 +37,12 @@ def motion_eval(Mo, t, piece, x, v, a):
     and evaluates all its stages on its own piece, as MoorDyn holds x + xd (tau - t) over a step."""
     k = piece if piece >= 0 else motion_piece(Mo, t)
     s = t - Mo.t[k]
+    cc = Mo.c
     for j in range(x.size):
-        c0 = Mo.c[k, j, 0]
-        c1 = Mo.c[k, j, 1]
-        c2 = Mo.c[k, j, 2]
-        c3 = Mo.c[k, j, 3]
+        c0 = cc[k, j, 0]
+        c1 = cc[k, j, 1]
+        c2 = cc[k, j, 2]
+        c3 = cc[k, j, 3]
         x[j] = c0 + s * (c1 + s * (c2 + s * c3))
         v[j] = c1 + s * (2.0 * c2 + 3.0 * s * c3)
         a[j] = 2.0 * c2 + 6.0 * s * c3
@@ -130,9 +132,7 @@ def point_loads(P, E, W, cd_scale, ftmp):
         for c in range(3):
             pM[p, c, c] += madd
         if kind[p] == P_FREE:
-            for c in range(3):
-                ftmp[c] = pF[p, c]
-            solve3(pM[p], ftmp, W.pa[p])
+            solve3(pM, p, pF, W.pa)
 
 
 @njit(cache=True, error_model="numpy")
@@ -182,7 +182,7 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
                 p = end_idx[li, j]
                 for c in range(3):
                     pF[p, c] += F[n, c]
-                add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q[n])
+                add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
     point_loads(P, E, W, cd_scale, ftmp)
 
     nrow = y.size // 6
