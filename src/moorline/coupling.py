@@ -207,7 +207,6 @@ class System:
         n = self.layout.n_state
         self.y = np.zeros(n)
         self._S = np.zeros((5, n))
-        self._ftmp = np.zeros(3)
         self.t = 0.0
         self._motion = static_motion(self.deck_coupled_positions())
         self.lines = [LineView(self, i) for i in range(len(model.lines))]
@@ -256,7 +255,7 @@ class System:
         velocity at the end of a step is the one imposed during it)."""
         dy = self._S[0]
         L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
-        rhs(self.t, self.y, dy, L, P, E, self._motion, W, 1.0, self._ftmp, piece)
+        rhs(self.t, self.y, dy, L, P, E, self._motion, W, 1.0, piece)
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N], in coupled-DOF order."""
@@ -313,7 +312,7 @@ class System:
         if opts.ICgenDynamic:
             ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), opts.dtIC, opts.TmaxIC,
                                               opts.threshIC, opts.CdScaleIC, L, P, E, self._motion, W,
-                                              self._S, self._ftmp, MAX_NODE_SPEED)
+                                              self._S, MAX_NODE_SPEED)
             if bad >= 0:
                 raise self._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
             self.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))
@@ -321,8 +320,7 @@ class System:
             seg_min = float(np.min(L.seg_l0))
             cfl_ic = min(float(opts.CFL), 1.0)
             status, tic, emean, it = stationary_solve(self.y, self.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
-                                                      cfl_ic, seg_min, L, P, E, self._motion, W, self._S,
-                                                      self._ftmp)
+                                                      cfl_ic, seg_min, L, P, E, self._motion, W, self._S)
             if status < 0 or not np.all(np.isfinite(self.y)):
                 raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
                                       "try ICgenDynamic 1 or a smaller dtM", time=0.0)
@@ -390,7 +388,7 @@ class System:
         L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
         last_stage = self.loads_at == "last_stage"
         t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, motion, W, 1.0,
-                                   self._S, self._ftmp, MAX_NODE_SPEED, not last_stage)
+                                   self._S, MAX_NODE_SPEED, not last_stage)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")

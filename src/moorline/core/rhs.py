@@ -107,7 +107,7 @@ def set_kinematics(t, y, L, P, Mo, W, piece):
 
 
 @njit(cache=True, error_model="numpy")
-def point_loads(P, E, W, cd_scale, ftmp):
+def point_loads(P, E, W, cd_scale):
     """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
     pU = W.pU
     pv = W.pv
@@ -136,7 +136,7 @@ def point_loads(P, E, W, cd_scale, ftmp):
 
 
 @njit(cache=True, error_model="numpy")
-def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
+def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
     Parameters
@@ -148,8 +148,6 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
     L, P, E, Mo, W : LineArrays, PointArrays, EnvArrays, Motion, Work
     cd_scale : float
         Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
-    ftmp : ndarray (3,)
-        Scratch.
     piece : int
         Piece of the coupled trajectory to evaluate (-1: the piece holding ``t``).
     """
@@ -183,7 +181,7 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, ftmp, piece):
                 for c in range(3):
                     pF[p, c] += F[n, c]
                 add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
-    point_loads(P, E, W, cd_scale, ftmp)
+    point_loads(P, E, W, cd_scale)
 
     nrow = y.size // 6
     uoff = 3 * nrow

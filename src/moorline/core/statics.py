@@ -74,7 +74,7 @@ def _accel_norm_sum(dy):
 
 
 @njit(cache=True, error_model="numpy")
-def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, Mo, W, S, ftmp):
+def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, Mo, W, S):
     """MoorDyn's stationary initial-condition solver (spec 6.3): pseudo-time steps along the
     accelerations with all velocities held at zero.
 
@@ -106,7 +106,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
     next_check = dtIC
     it = 0
     while True:
-        rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, ftmp, -1)
+        rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, -1)
         e = _accel_norm_sum(dy)
         if e0 < 0.0:
             e0 = e
@@ -114,7 +114,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, M
             b /= 1.01
             for i in range(uoff):
                 y[i] = 0.5 * (y[i] + qprev[i])
-            rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, ftmp, -1)
+            rhs(0.0, y, dy, L, P, E, Mo, W, 1.0, -1)
             e = _accel_norm_sum(dy)
         else:
             b *= 1.01
@@ -154,7 +154,7 @@ def _fairlead_tensions(L, W, out):
 
 
 @njit(cache=True, error_model="numpy")
-def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E, Mo, W, S, ftmp, vmax):
+def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E, Mo, W, S, vmax):
     """MoorDyn's legacy initial-condition solver (spec 6.4): integrate with drag scaled by
     ``cd_scale`` until the end-B tension of every line changes by less than ``threshIC``
     (relative) over ten samples ``dtIC/10`` apart.
@@ -169,10 +169,10 @@ def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, P, E, Mo, W, cd_scale, S, ftmp, vmax, False)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, P, E, Mo, W, cd_scale, S, vmax, False)
         if bad >= 0:
             return False, t, bad
-        rhs(t, y, S[0], L, P, E, Mo, W, cd_scale, ftmp, -1)
+        rhs(t, y, S[0], L, P, E, Mo, W, cd_scale, -1)
         _fairlead_tensions(L, W, ten)
         for k in range(nwin - 1):
             for li in range(nl):
