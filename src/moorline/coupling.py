@@ -212,6 +212,7 @@ class System:
         self.lines = [LineView(self, i) for i in range(len(model.lines))]
         self.points = [PointView(self, i) for i in range(len(model.points))]
         self.initialized = False
+        self._grid_warned = False
         self.ic_report: dict = {}
         self._xd_prev = np.zeros(self.n_coupled_dof)
 
@@ -254,8 +255,8 @@ class System:
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
         dy = self._S[0]
-        L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
-        rhs(self.t, self.y, dy, L, P, E, self._motion, W, 1.0, piece)
+        L, P, E, B, W = self.layout.lines, self.layout.points, self.layout.env, self.layout.seabed, self.work
+        rhs(self.t, self.y, dy, L, P, E, B, self._motion, W, 1.0, piece)
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N], in coupled-DOF order."""
@@ -290,6 +291,8 @@ class System:
         self._xd_prev = np.zeros(self.n_coupled_dof) if xd is None else xd.copy()
         self.t = 0.0
         self._motion = static_motion(x)
+        B = self.layout.seabed
+        B.ctl[:] = 0  # stick-slip friction is off while the initial conditions are found
         failed = catenary_start(self.layout, x, self.y)
         for li, status in failed:
             log.warning("line %d: catenary solve unsuccessful (%s); starting from the straight chord", li + 1,
@@ -302,16 +305,29 @@ class System:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
         self._evaluate()
+        # friction springs start relaxed at the initial position of every node
+        B.anchor[...] = self.work.r
+        B.slip[...] = 0.0
+        B.ctl[0] = 1
         self._report_stability()
+        self._check_grid()
         self.initialized = True
         return self.coupled_forces()
 
+    def _check_grid(self) -> None:
+        B = self.layout.seabed
+        if B.ctl[2] > 0 and not self._grid_warned:
+            self._grid_warned = True
+            log.warning("line nodes reached beyond the bathymetry grid (x %.6g..%.6g, y %.6g..%.6g m) by t = %.6g s; "
+                        "the seabed height of the nearest grid edge is used there", B.gx[0], B.gx[-1], B.gy[0],
+                        B.gy[-1], self.t)
+
     def _solve_ic(self) -> None:
         opts = self.model.options
-        L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
+        L, P, E, B, W = self.layout.lines, self.layout.points, self.layout.env, self.layout.seabed, self.work
         if opts.ICgenDynamic:
             ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), opts.dtIC, opts.TmaxIC,
-                                              opts.threshIC, opts.CdScaleIC, L, P, E, self._motion, W,
+                                              opts.threshIC, opts.CdScaleIC, L, P, E, B, self._motion, W,
                                               self._S, MAX_NODE_SPEED)
             if bad >= 0:
                 raise self._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
@@ -320,7 +336,7 @@ class System:
             seg_min = float(np.min(L.seg_l0))
             cfl_ic = min(float(opts.CFL), 1.0)
             status, tic, emean, it = stationary_solve(self.y, self.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
-                                                      cfl_ic, seg_min, L, P, E, self._motion, W, self._S)
+                                                      cfl_ic, seg_min, L, P, E, B, self._motion, W, self._S)
             if status < 0 or not np.all(np.isfinite(self.y)):
                 raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
                                       "try ICgenDynamic 1 or a smaller dtM", time=0.0)
@@ -341,10 +357,9 @@ class System:
                         "start from the last iterate", rep["method"], opts.TmaxIC)
 
     def _report_stability(self) -> None:
-        zbed = -self.layout.env.depth
         L = self.layout.lines
-        on_bed = np.array([np.any(self.work.r[L.node_ptr[i]:L.node_ptr[i + 1], 2] <= zbed)
-                           for i in range(len(self.lines))])
+        fbed = np.any(self.work.Fbed != 0.0, axis=1)
+        on_bed = np.array([np.any(fbed[L.node_ptr[i]:L.node_ptr[i + 1]]) for i in range(len(self.lines))])
         gov, limit, text = stability_report(self.model, self.layout, self.dtM, self.scheme, on_bed)
         self.stability = {"governing": gov.where, "mode": gov.kind, "rate": gov.rate,
                           "dtM_limit": limit, "text": text}
@@ -385,13 +400,14 @@ class System:
 
     def _advance(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
-        L, P, E, W = self.layout.lines, self.layout.points, self.layout.env, self.work
+        L, P, E, B, W = self.layout.lines, self.layout.points, self.layout.env, self.layout.seabed, self.work
         last_stage = self.loads_at == "last_stage"
-        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, motion, W, 1.0,
+        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, B, motion, W, 1.0,
                                    self._S, MAX_NODE_SPEED, not last_stage)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
+        self._check_grid()
         if last_stage:
             kept = [getattr(W, f).copy() for f in self._STAGE_FIELDS] if piece >= 0 else []
             self._evaluate(int(piece))

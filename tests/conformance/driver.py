@@ -129,18 +129,21 @@ def channels(system: System, spec: dict, coupled_force: list) -> list[tuple[list
     return ch
 
 
-def run_case(name: str, *, own_ic: bool = False, out_dir: Path | None = None) -> dict:
+def run_case(name: str, *, own_ic: bool = False, out_dir: Path | None = None, env: dict | None = None) -> dict:
     """Run one corpus case; returns paths of the series/initial CSVs and timings.
 
     With ``own_ic`` False the dynamics start from MoorDyn's initial state
     (``reference/<case>_initial.csv``), as the README recommends for a like-for-like comparison of
-    the dynamics; with True moorline's own initial-condition solver is used.
+    the dynamics; with True moorline's own initial-condition solver is used. ``env`` overrides
+    fields of the model's Environment (e.g. ``{"contact": "vertical"}``).
     """
     gr = gen_reference()
     spec = load_case(name)
     deck = CONF / spec["input"]
     case_dir = deck.parent
     model = read_deck(deck)
+    for key, value in (env or {}).items():
+        setattr(model.env, key, value)
     # MoorDyn reports the loads of the last stage of its last step; compare like with like
     system = System(model, loads_at="last_stage")
     X0 = system.deck_coupled_positions()
@@ -163,7 +166,7 @@ def run_case(name: str, *, own_ic: bool = False, out_dir: Path | None = None) ->
 
     out_dir = Path(out_dir or ROOT / "out" / "conformance")
     out_dir.mkdir(parents=True, exist_ok=True)
-    tag = "_ownic" if own_ic else ""
+    tag = ("_ownic" if own_ic else "") + "".join(f"_{k}-{v}" for k, v in (env or {}).items())
     ini_path = out_dir / f"{name}{tag}_initial.csv"
     write_initial(system, ini_path)
 
@@ -212,10 +215,13 @@ def main(argv=None) -> int:
     ap.add_argument("cases", nargs="+")
     ap.add_argument("--own-ic", action="store_true", help="use moorline's IC instead of MoorDyn's initial state")
     ap.add_argument("--out", type=Path)
+    ap.add_argument("--env", action="append", default=[], metavar="KEY=VALUE",
+                    help="override an Environment field, e.g. contact=vertical")
     a = ap.parse_args(argv)
+    env = dict(kv.split("=", 1) for kv in a.env)
     ok = True
     for name in a.cases:
-        res = run_case(name, own_ic=a.own_ic, out_dir=a.out)
+        res = run_case(name, own_ic=a.own_ic, out_dir=a.out, env=env)
         md = json.loads((CONF / "reference" / "manifest.json").read_text())["cases"][name]
         print(f"{name}: init {res['init_s']:.2f} s, run {res['run_s']:.2f} s "
               f"(MoorDyn: init {md.get('runtime_init_s')} s, steps {md.get('runtime_steps_s')} s)")

@@ -11,7 +11,7 @@ import pytest
 from moorline.errors import DeckError
 from moorline.io import read_curve, read_deck, read_deck_text, write_deck
 from moorline.io.lexer import lex, parse_number, parse_whole, section_name, tokenize
-from moorline.model import Attachment, Curve, Model, PointKind
+from moorline.model import Attachment, Bathymetry, Curve, Model, PointKind
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared"
 INPUTS = SHARED / "conformance" / "inputs"
@@ -45,7 +45,12 @@ def assert_models_equal(a: Model, b: Model):
         assert np.array_equal(pa.F_ext, pb.F_ext)
         assert (pa.m, pa.V, pa.CdA, pa.Ca, pa.body) == (pb.m, pb.V, pb.CdA, pb.Ca, pb.body)
     assert a.lines == b.lines
-    assert a.env == b.env
+    ea, eb = vars(a.env).copy(), vars(b.env).copy()
+    ba, bb = ea.pop("bathymetry"), eb.pop("bathymetry")
+    assert ea == eb
+    assert (ba is None) == (bb is None)
+    if ba is not None:
+        assert all(np.array_equal(getattr(ba, f), getattr(bb, f)) for f in ("x", "y", "z"))
     assert a.options == b.options
     assert a.outputs == b.outputs
 
@@ -435,18 +440,13 @@ def test_not_acted_on_options_warn_once(caplog):
 2        WaveKin
 1        Currents
 1        Currents    again: one warning per key
-0.3      mu_kT
-0.1      mu_kA
-2.0      mc
-bathy.dat SeafloorFile
 state.bin ICfile
 """
     with caplog.at_level(logging.DEBUG, logger="moorline.io"):
         m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n" + extra), path="x.txt")
-    assert m.options.not_acted_on == {"WaveKin": "2", "Currents": "1", "mu_kT": "0.3", "mu_kA": "0.1",
-                                      "mc": "2.0", "SeafloorFile": "bathy.dat", "fileIC": "state.bin"}
+    assert m.options.not_acted_on == {"WaveKin": "2", "Currents": "1", "fileIC": "state.bin"}
     warnings = [r for r in caplog.records if r.levelno == logging.WARNING]
-    assert len(warnings) == 7
+    assert len(warnings) == 3
     assert sum("Currents" in r.getMessage() for r in warnings) == 1
     assert all("x.txt" in r.getMessage() for r in warnings)
 
@@ -459,8 +459,6 @@ def test_neutral_not_acted_on_options_do_not_warn(caplog):
 1        disableOutTime
 0.25     dtWave
 1        OutSwitch
-0        mu_kT
-1.5      mc       (no directional friction, so mc changes nothing)
 0        inertialF
 """
     with caplog.at_level(logging.DEBUG, logger="moorline.io"):
@@ -652,7 +650,10 @@ def test_round_trip_everything(tmp_path):
     m.add_line("viv2", c, a, L=700.0, N=30)
     m.env.depth, m.env.mu, m.env.rho = 200.0, 0.4, 1027.5
     m.options.dtM, m.options.tScheme, m.options.ICgenDynamic = 2e-4, "RK4", 1
-    m.options.not_acted_on = {"WaveKin": "7", "SeafloorFile": "bathy.txt"}
+    m.options.not_acted_on = {"WaveKin": "7"}
+    m.env.bathymetry = Bathymetry([0.0, 50.0, 100.0], [-5.0, 5.0], [[-40.0, -35.5, -30.25], [-41.0, -36.0, -31.0]])
+    m.env.friction, m.env.contact, m.env.kShear = "stickslip", "vertical", 2.5e5
+    m.env.depth = m.env.bathymetry.mean_depth  # a deck with a grid has the grid's mean depth
     m.outputs = ["FairTen2", "L1N0PZ", "Point2FZ"]
     out = write_deck(m, tmp_path / "all.dat")
     assert (tmp_path / "all_poly_EA.txt").is_file() and (tmp_path / "all_viv_BA.txt").is_file()
@@ -701,3 +702,50 @@ def test_moordyn_reads_written_deck(tmp_path):
         assert moordyn.GetPointM(point2)[0][0] == pytest.approx(100.0)  # mass matrix before Init
     finally:
         moordyn.Close(system)
+
+
+# ------------------------------------------------------------------------------ seabed options
+def test_friction_options_select_the_model():
+    m = read_deck_text(SMALL)
+    assert m.env.friction == "isotropic"
+    m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n0.3  mu_kT\n0.1  mu_kA\n2.0  mc\n"))
+    assert m.env.friction == "directional"
+    assert (m.env.mu_kT, m.env.mu_kA, m.env.mc) == (0.3, 0.1, 2.0)
+    assert m.env.friction_coefficients() == (0.3, 0.1, 2.0, 200.0)
+    m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n0.4  FrictionCoefficient\n"
+                                     "stickslip  FrictionModel\n1e5  kShear\nvertical  SeabedContact\n"))
+    assert (m.env.friction, m.env.kShear, m.env.contact) == ("stickslip", 1e5, "vertical")
+    assert m.env.friction_coefficients()[:3] == (0.4, 0.4, 1.0)
+
+
+def test_bad_friction_model_is_located():
+    with pytest.raises(DeckError) as e:
+        read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nsticky  FrictionModel\n"), path="f.txt")
+    assert "f.txt, line 21" in str(e.value) and "one of isotropic, directional, stickslip" in str(e.value)
+
+
+def test_seafloor_file_sets_bathymetry_and_mean_depth(tmp_path):
+    (tmp_path / "bed.txt").write_text("2 2\n0 100\n-10 10\n0 -10 -40\n100 -10 -20\n0 10 -40\n100 10 -20\n")
+    deck = tmp_path / "d.txt"
+    deck.write_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nbed.txt  SeafloorFile\n"))
+    m = read_deck(deck)
+    assert m.env.bathymetry is not None and m.env.bathymetry.z.shape == (2, 2)
+    assert m.env.depth == pytest.approx(30.0)
+    assert m.env.bathymetry.height(50.0, 0.0) == pytest.approx(-30.0)
+
+
+def test_depth_grid_given_as_wtrdpth(tmp_path):
+    (tmp_path / "depths.txt").write_text("title\nnGridX 2\nnGridY 2\n 0 100\n-10 40 20\n10 40 20\n")
+    deck = tmp_path / "d.txt"
+    deck.write_text(SMALL.replace("100     WtrDpth", "depths.txt  WtrDpth"))
+    m = read_deck(deck)
+    assert m.env.bathymetry.height(100.0, 0.0) == pytest.approx(-20.0)
+    assert m.env.depth == pytest.approx(30.0)
+
+
+def test_missing_seafloor_file_is_located(tmp_path):
+    deck = tmp_path / "d.txt"
+    deck.write_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nnothere.txt  SeafloorFile\n"))
+    with pytest.raises(DeckError) as e:
+        read_deck(deck)
+    assert "d.txt, line 21" in str(e.value) and "nothere.txt" in str(e.value) and "not found" in str(e.value)

@@ -181,8 +181,8 @@ CASES = {
                                  ("expected a number > 0", "got 'heavy'")),
     "negative water depth": Case(replace_line(20, "-90 WtrDpth"), 20, "WtrDpth",
                                  ("expected a number >= 0", "got '-90'")),
-    "bathymetry file as WtrDpth": Case(replace_line(20, "bathymetry.txt WtrDpth"), 20, "WtrDpth",
-                                       ("bathymetry file", "not supported yet")),
+    "missing depth grid as WtrDpth": Case(replace_line(20, "bathymetry.txt WtrDpth"), 20, "WtrDpth",
+                                          ("MoorDyn-F depth grid", "'bathymetry.txt'", "not found")),
     "ICgenDynamic not 0 or 1": Case(insert_after(21, "2 ICgenDynamic"), 22, "ICgenDynamic",
                                     ("expected 0 or 1", "got '2'")),
 }

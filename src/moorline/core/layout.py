@@ -67,15 +67,39 @@ class PointArrays(NamedTuple):
     cpl: np.ndarray  # int64 (n_points,): offset of the point in the coupled-DOF vector, -1 otherwise
 
 
+# seabed contact modes and friction models (mirrors of model.CONTACT_MODES / FRICTION_MODELS)
+CONTACT_NORMAL = 0
+CONTACT_VERTICAL = 1
+FRIC_ISOTROPIC = 0
+FRIC_DIRECTIONAL = 1
+FRIC_STICKSLIP = 2
+
+
 class EnvArrays(NamedTuple):
     g: float
     rho: float
-    depth: float
+    depth: float  # flat seabed at z = -depth (when there is no grid)
     kBot: float
     cBot: float
-    mu: float
-    fric_damp: float
-    stat_dyn: float
+    contact: int  # CONTACT_NORMAL or CONTACT_VERTICAL
+    fric: int  # FRIC_*
+    muT: float  # transverse (isotropic: the) kinetic friction coefficient
+    muA: float  # axial kinetic friction coefficient
+    mc: float  # static / kinetic ratio
+    cv: float  # creep damping of the saturated models [N s/m]
+    kshear: float  # stick-slip friction spring stiffness per contact area [Pa/m]
+    cshear: float  # stick-slip friction spring damping per contact area [Pa s/m]
+
+
+class Seabed(NamedTuple):
+    """Bathymetry grid (empty arrays for a flat seabed) and the stick-slip friction state."""
+
+    gx: np.ndarray  # (nx,) grid x [m]
+    gy: np.ndarray  # (ny,) grid y [m]
+    gz: np.ndarray  # (ny, nx) seabed heights [m]
+    anchor: np.ndarray  # (n_nodes, 3) friction-spring anchors of the stick-slip model
+    slip: np.ndarray  # (n_nodes, 2) 1 while sliding (axial, transverse), else 0
+    ctl: np.ndarray  # int64 (3,): [stick-slip active, commit anchors now, queries outside the grid]
 
 
 class Work(NamedTuple):
@@ -129,6 +153,7 @@ class Layout:
     lines: LineArrays
     points: PointArrays
     env: EnvArrays
+    seabed: Seabed
     n_rows: int  # number of 3-vector state rows
     n_coupled_dof: int
     line_N: np.ndarray  # (n_lines,) segments per line
@@ -152,8 +177,11 @@ class Layout:
 
 
 def effective_depth(model: Model) -> float:
-    """Water depth after MoorDyn's rule: never shallower than the deepest point."""
+    """Water depth after MoorDyn's rule: never shallower than the deepest point (flat seabed only;
+    with a bathymetry grid the depth is the grid's mean depth)."""
     depth = model.env.depth
+    if model.env.bathymetry is not None:
+        return float(depth)
     zmin = min((p.r[2] for p in model.points), default=0.0)
     if -zmin > depth:
         log.warning("water depth %.6g m is shallower than the deepest point (z = %.6g m); "
@@ -251,9 +279,19 @@ def build_layout(model: Model) -> Layout:
                        props["Ca"], props["CdAx"], props["CaAx"], ea_tab, ba_tab, seg_l0, seg_EA, seg_BA,
                        np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row)
     e = model.env
-    env = EnvArrays(float(e.g), float(e.rho), effective_depth(model), float(e.kBot), float(e.cBot), float(e.mu),
-                    float(e.fric_damp), float(e.stat_dyn))
-    return Layout(lines, points, env, row, 3 * len(coupled), N, line_L,
+    muT, muA, mc, cv = e.friction_coefficients()
+    fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
+    contact = CONTACT_NORMAL if e.contact == "normal" else CONTACT_VERTICAL
+    kshear = float(e.kShear) if e.kShear is not None else float(e.kBot)
+    env = EnvArrays(float(e.g), float(e.rho), effective_depth(model), float(e.kBot), float(e.cBot), contact, fric,
+                    float(muT), float(muA), float(mc), float(cv), kshear, float(e.cBot))
+    b = e.bathymetry
+    if b is None:
+        grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
+    else:
+        grid = (b.x.copy(), b.y.copy(), b.z.copy())
+    seabed = Seabed(*grid, np.zeros((nn, 3)), np.zeros((nn, 2)), np.zeros(3, dtype=np.int64))
+    return Layout(lines, points, env, seabed, row, 3 * len(coupled), N, line_L,
                   [ln.line_type for ln in model.lines], coupled)
 
 

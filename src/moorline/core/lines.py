@@ -13,6 +13,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .seabed import seabed_force
+
 _EPS = 1e-12
 
 
@@ -69,14 +71,14 @@ def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
 
 
 @njit(cache=True, error_model="numpy")
-def line_forces(li, L, E, W, cd_scale):
+def line_forces(li, L, E, B, W, cd_scale):
     """Evaluate every load of line ``li`` and the accelerations of its internal nodes.
 
     Parameters
     ----------
     li : int
         Line index.
-    L, E, W : LineArrays, EnvArrays, Work
+    L, E, B, W : LineArrays, EnvArrays, Seabed, Work
     cd_scale : float
         Drag multiplier (1, or CdScaleIC during dynamic relaxation).
     """
@@ -171,7 +173,6 @@ def line_forces(li, L, E, W, cd_scale):
         w_seg_F[s] = segment_wet_fraction(r, a, b, w_zeta[a], w_zeta[b], d)
 
     # ---- nodes
-    zbed = -E.depth
     for i in range(N + 1):
         n = n0 + i
         # tangent
@@ -256,20 +257,9 @@ def line_forces(li, L, E, W, cd_scale):
         w_Fhyd[n, 1] = hy
         w_Fhyd[n, 2] = hz
 
-        # seabed contact (vertical, flat bed) and MoorDyn-C isotropic friction
-        bx = 0.0
-        by = 0.0
-        bz = 0.0
-        if r[n, 2] < zbed:
-            bz = ((zbed - r[n, 2]) * E.kBot - v[n, 2] * E.cBot) * d * lam
-            if E.mu > 0.0:
-                vh = math.sqrt(v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
-                if vh > 0.0:
-                    nrm = abs(bz)
-                    flin = E.mu * E.fric_damp * vh
-                    ff = flin if flin <= E.stat_dyn * E.mu * nrm else E.mu * nrm
-                    bx = -ff * v[n, 0] / vh
-                    by = -ff * v[n, 1] / vh
+        # seabed contact and friction
+        bx, by, bz = seabed_force(E, B, n, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d,
+                                  lam)
         w_Fbed[n, 0] = bx
         w_Fbed[n, 1] = by
         w_Fbed[n, 2] = bz

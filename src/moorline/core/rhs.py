@@ -136,7 +136,7 @@ def point_loads(P, E, W, cd_scale):
 
 
 @njit(cache=True, error_model="numpy")
-def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, piece):
+def rhs(t, y, dy, L, P, E, B, Mo, W, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
     Parameters
@@ -145,7 +145,7 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, piece):
         Time [s].
     y, dy : ndarray (n_state,)
         State ``[q | u]`` and its derivative ``[u | a]``.
-    L, P, E, Mo, W : LineArrays, PointArrays, EnvArrays, Motion, Work
+    L, P, E, B, Mo, W : LineArrays, PointArrays, EnvArrays, Seabed, Motion, Work
     cd_scale : float
         Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
     piece : int
@@ -173,7 +173,7 @@ def rhs(t, y, dy, L, P, E, Mo, W, cd_scale, piece):
                 pM[p, a, b] = 0.0
     nl = node_ptr.size - 1
     for li in range(nl):
-        line_forces(li, L, E, W, cd_scale)
+        line_forces(li, L, E, B, W, cd_scale)
         for j in range(2):
             n = node_ptr[li] if j == 0 else node_ptr[li + 1] - 1
             if end_kind[li, j] == ATT_POINT:

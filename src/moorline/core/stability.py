@@ -71,12 +71,15 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
                                   4.0 * BA / (lt.w * l0 * l0)))
         touches = bool(on_seabed[li]) if on_seabed is not None else None
         if touches is None:
-            za = model.end_position(ln.end_a)[2]
-            zb = model.end_position(ln.end_b)[2]
-            touches = min(za, zb) <= -E.depth * (1.0 - 1e-5)
+            ends = [model.end_position(ln.end_a), model.end_position(ln.end_b)]
+            bathy = model.env.bathymetry
+            touches = any(r[2] <= (bathy.height(r[0], r[1]) if bathy is not None else -E.depth) * (1.0 - 1e-5)
+                          for r in ends)
         if touches:
             modes.append(Mode(name, "seabed contact damping", E.cBot * lt.d / lt.w))
             modes.append(Mode(name, "seabed contact stiffness", math.sqrt(E.kBot * lt.d / lt.w)))
+            if model.env.friction == "stickslip":
+                modes.append(Mode(name, "stick-slip friction spring", math.sqrt(E.kshear * lt.d / lt.w)))
     # points between stiff lines: axial stiffness of the attached end segments on the point mass
     P = layout.points
     for p, pt in enumerate(model.points):

@@ -9,7 +9,10 @@ name the file, the line, the row, the field and what was expected. All bad input
 Supported: LINE TYPES (10, 11 or 13 columns; 9-column MoorDyn v1 rows), POINTS (9 or 12 column
 layouts, also v1 CONNECTION PROPERTIES), LINES (v2 layout and the v1 layout with the length before
 the end points), OPTIONS (every MoorDyn-C key and the MoorDyn-F aliases), OUTPUTS, and EA/BA/EI
-curve files. Rods, bodies, Syrope, failures and bathymetry raise a DeckError saying so.
+curve files, seabed bathymetry (MoorDyn-C ``SeafloorFile`` grids and MoorDyn-F depth grids given as
+``WtrDpth``), seabed friction of both MoorDyn flavours, and moorline's own seabed keys
+(``SeabedContact``, ``FrictionModel``, ``kShear``). Rods, bodies, Syrope and failures raise a
+DeckError saying so.
 
 MoorDyn v1 LINES rows (``Line LineType UnstrLen NumSegs NodeAnch NodeFair Flags``) are told apart
 from v2 rows (``ID LineType AttachA AttachB UnstrLen NumSegs Outputs``) row by row: a row is v1 when
@@ -28,7 +31,18 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import DeckError
-from ..model import Attachment, Curve, Line, LineType, Model, ModelError, Point, PointKind
+from ..model import (
+    CONTACT_MODES,
+    FRICTION_MODELS,
+    Attachment,
+    Curve,
+    Line,
+    LineType,
+    Model,
+    ModelError,
+    Point,
+    PointKind,
+)
 from .lexer import Row, Section, lex, parse_number, parse_whole, split_lines, tokenize
 
 log = logging.getLogger("moorline.io")
@@ -247,11 +261,24 @@ LINE_COLUMNS_V1 = (
 
 
 # ---------------------------------------------------------------------------------- options
+def _looks_like_file(tok) -> bool:
+    return parse_number(tok) is None and bool(re.search(r"[A-DF-Za-df-z_/\\]", tok))
+
+
 def _depth(tok, rd=None):
-    if parse_number(tok) is None and re.search(r"[A-DF-Za-df-z_/\\]", tok):
-        raise _Bad(f"{tok!r}: a bathymetry file given as WtrDpth (MoorDyn-F layout) is not supported yet; "
-                   "give the water depth as a number >= 0", plain=True)
+    if _looks_like_file(tok):
+        # a MoorDyn-F depth grid; read in _Reader.read_seabed, the depth becomes its mean
+        return 0.0
     return _nonneg(tok)
+
+
+def _choice(*words):
+    def parse(tok, rd=None):
+        if tok.lower() not in words:
+            raise _Bad(f"one of {', '.join(words)}")
+        return tok.lower()
+
+    return parse
 
 
 #: (canonical key, aliases, target object, attribute, parser). Keys are compared case-insensitively.
@@ -268,6 +295,13 @@ OPTION_TABLE = (
     ("FrictionCoefficient", (), "env", "mu", _nonneg),
     ("FricDamp", (), "env", "fric_damp", _nonneg),
     ("StatDynFricScale", (), "env", "stat_dyn", _pos),
+    ("mu_kT", (), "env", "mu_kT", _nonneg),
+    ("mu_kA", (), "env", "mu_kA", _nonneg),
+    ("mc", (), "env", "mc", _pos),
+    ("cv", (), "env", "cv", _nonneg),
+    ("FrictionModel", (), "env", "friction", _choice(*FRICTION_MODELS)),
+    ("SeabedContact", (), "env", "contact", _choice(*CONTACT_MODES)),
+    ("kShear", (), "env", "kShear", _pos),
     ("dtIC", ("ICdt",), "options", "dtIC", _pos),
     ("TmaxIC", ("ICTmax",), "options", "TmaxIC", _nonneg),
     ("CdScaleIC", ("ICDfac",), "options", "CdScaleIC", _pos),
@@ -291,10 +325,6 @@ def _never(v, opts):
     return False
 
 
-def _no_directional_friction(v, opts):
-    return all(parse_number(opts[k][0]) in (None, 0.0) for k in ("mu_kT", "mu_kA") if k in opts)
-
-
 #: Keys read but not acted on: canonical key -> (aliases, is_neutral(value, options)).
 #: A neutral value changes nothing and is only logged at debug level; any other value is stored in
 #: ``model.options.not_acted_on`` with one warning.
@@ -303,20 +333,18 @@ NOT_ACTED_ON = {
     "dtWave": ((), _always),
     "Currents": ((), _equals(0.0)),
     "UnifyCurrentGrid": ((), _equals(1.0)),
-    "SeafloorFile": ((), _never),
     "fileIC": (("ICfile",), _never),
     "disableOutTime": ((), _always),
     "WaterKin": ((), _never),
-    "mu_kT": ((), _equals(0.0)),
-    "mu_kA": ((), _equals(0.0)),
-    "mc": ((), _no_directional_friction),
-    "cv": ((), _no_directional_friction),
     "inertialF": ((), _equals(0.0)),
     "inertialF_rampT": ((), _always),
     "OutSwitch": ((), _always),
 }
 
-_OPTION_KEYS: dict[str, str] = {}
+#: keys handled by _Reader.read_seabed (file names)
+SEABED_FILE_KEYS = ("SeafloorFile",)
+
+_OPTION_KEYS: dict[str, str] = {"seafloorfile": "SeafloorFile"}
 for _key, _aliases, *_ in OPTION_TABLE:
     for _k in (_key, *_aliases):
         _OPTION_KEYS[_k.lower()] = _key
@@ -549,6 +577,7 @@ class _Reader:
                 raise self.field_error("OPTIONS", row, typed, value, bad) from None
             setattr(self.model.env if target == "env" else self.model.options, attr, v)
             self.option_rows[key] = row
+        self.read_seabed(given)
         for key, (_aliases, neutral) in NOT_ACTED_ON.items():
             if key not in given:
                 continue
@@ -560,6 +589,30 @@ class _Reader:
             self.model.options.not_acted_on[key] = value
             log.warning("%s, line %d: option %s = %s is read but not acted on by this version of moorline",
                         self.file, row.line, typed, value)
+
+    def read_seabed(self, given):
+        """Bathymetry files and the choice of friction model (after the plain options)."""
+        from .bathymetry import find_seafloor_file, read_depth_grid, read_seafloor_grid
+
+        env = self.model.env
+        for key, reader, what in (("SeafloorFile", read_seafloor_grid, "MoorDyn-C seafloor grid"),
+                                  ("WtrDpth", read_depth_grid, "MoorDyn-F depth grid")):
+            if key not in given or not _looks_like_file(given[key][0]):
+                continue
+            value, row, typed = given[key]
+            if env.bathymetry is not None:
+                raise self.error(f"field {typed!r} of OPTIONS: a bathymetry was already given; expected one "
+                                 "SeafloorFile or one WtrDpth file, not both", row, typed)
+            try:
+                path = find_seafloor_file(value, self.base_dir)
+                env.bathymetry = reader(path)
+            except DeckError as e:
+                raise self.error(f"field {typed!r} of OPTIONS: bad {what} {value!r}: {e}", row, typed) from None
+            env.depth = env.bathymetry.mean_depth
+            log.info("%s, line %d: seabed from %s (%d x %d grid); water depth for waves = mean depth %.6g m",
+                     self.file, row.line, path, env.bathymetry.x.size, env.bathymetry.y.size, env.depth)
+        if "FrictionModel" not in given and any(k in given for k in ("mu_kT", "mu_kA", "mc", "cv")):
+            env.friction = "directional"
 
     def read_outputs(self):
         sec = self.sections.get("OUTPUTS")
@@ -836,6 +889,11 @@ def write_deck(model: Model, path) -> Path:
         if v is None:
             continue
         opts.append((v if isinstance(v, str) else _fmt(v), key))
+    if model.env.bathymetry is not None:
+        from .bathymetry import write_seafloor_grid
+
+        grid = write_seafloor_grid(model.env.bathymetry, path.with_name(f"{path.stem}_seafloor.txt"))
+        opts.append((grid.name, "SeafloorFile"))
     for key, value in model.options.not_acted_on.items():
         _check_token(str(value), f"option {key} value")
         opts.append((str(value), key))

@@ -1,7 +1,20 @@
 """Plain descriptions of a mooring system (no numba, no file formats)."""
 
 from .system import Model
-from .types import Attachment, Curve, Environment, Line, LineType, ModelError, Options, Point, PointKind
+from .types import (
+           CONTACT_MODES,
+           FRICTION_MODELS,
+           Attachment,
+           Bathymetry,
+           Curve,
+           Environment,
+           Line,
+           LineType,
+           ModelError,
+           Options,
+           Point,
+           PointKind,
+)
 
-__all__ = ["Attachment", "Curve", "Environment", "Line", "LineType", "Model", "ModelError", "Options",
-           "Point", "PointKind"]
+__all__ = ["CONTACT_MODES", "FRICTION_MODELS", "Attachment", "Bathymetry", "Curve", "Environment", "Line",
+           "LineType", "Model", "ModelError", "Options", "Point", "PointKind"]

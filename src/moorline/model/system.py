@@ -132,6 +132,21 @@ class Model:
             raise ModelError("rho and g must be > 0")
         if self.env.depth < 0:
             raise ModelError(f"water depth must be >= 0, got {self.env.depth}")
+        from .types import CONTACT_MODES, FRICTION_MODELS
+
+        if self.env.contact not in CONTACT_MODES:
+            raise ModelError(f"seabed contact must be one of {CONTACT_MODES}, got {self.env.contact!r}")
+        if self.env.friction not in FRICTION_MODELS:
+            raise ModelError(f"seabed friction model must be one of {FRICTION_MODELS}, got {self.env.friction!r}")
+        e = self.env
+        for name in ("kBot", "cBot", "mu", "fric_damp", "mu_kT", "mu_kA", "cv"):
+            if getattr(e, name) < 0:
+                raise ModelError(f"{name} must be >= 0, got {getattr(e, name)}")
+        for name in ("stat_dyn", "mc"):
+            if getattr(e, name) <= 0:
+                raise ModelError(f"{name} must be > 0, got {getattr(e, name)}")
+        if e.kShear is not None and e.kShear <= 0:
+            raise ModelError(f"kShear must be > 0, got {e.kShear}")
 
 
 def _num_or_curve(v):

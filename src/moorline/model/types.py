@@ -204,6 +204,72 @@ class Line:
 
 
 @dataclass
+class Bathymetry:
+    """Seabed heights on a rectangular x-y grid, interpolated bilinearly.
+
+    Parameters
+    ----------
+    x : array_like (nx,)
+        Grid x coordinates [m], strictly increasing.
+    y : array_like (ny,)
+        Grid y coordinates [m], strictly increasing.
+    z : array_like (ny, nx)
+        Seabed height [m] at (y[j], x[i]) (negative below the still-water level).
+    source : str
+        File it was read from, for messages.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    z: np.ndarray
+    source: str = ""
+
+    def __post_init__(self):
+        self.x = np.asarray(self.x, dtype=float).ravel()
+        self.y = np.asarray(self.y, dtype=float).ravel()
+        self.z = np.asarray(self.z, dtype=float).reshape(self.y.size, self.x.size)
+        for name, v in (("x", self.x), ("y", self.y)):
+            if v.size < 1 or np.any(np.diff(v) <= 0):
+                raise ModelError(f"bathymetry {self.source}: {name} coordinates must be strictly increasing")
+        if not np.all(np.isfinite(self.z)):
+            raise ModelError(f"bathymetry {self.source}: heights must be finite")
+
+    @property
+    def mean_depth(self) -> float:
+        """Minus the mean grid height [m] (MoorDyn's depth for wave kinematics)."""
+        return float(-np.mean(self.z))
+
+    def height(self, x, y):
+        """Bilinear seabed height [m] at (x, y), clamped to the grid edges (plain numpy)."""
+        xs = np.clip(np.asarray(x, dtype=float), self.x[0], self.x[-1])
+        ys = np.clip(np.asarray(y, dtype=float), self.y[0], self.y[-1])
+        i = np.clip(np.searchsorted(self.x, xs, side="right") - 1, 0, max(self.x.size - 2, 0))
+        j = np.clip(np.searchsorted(self.y, ys, side="right") - 1, 0, max(self.y.size - 2, 0))
+        if self.x.size == 1:
+            tx = np.zeros_like(xs)
+            i1 = i
+        else:
+            tx = (xs - self.x[i]) / (self.x[i + 1] - self.x[i])
+            i1 = i + 1
+        if self.y.size == 1:
+            ty = np.zeros_like(ys)
+            j1 = j
+        else:
+            ty = (ys - self.y[j]) / (self.y[j + 1] - self.y[j])
+            j1 = j + 1
+        z = self.z
+        return ((1 - tx) * (1 - ty) * z[j, i] + tx * (1 - ty) * z[j, i1] + (1 - tx) * ty * z[j1, i]
+                + tx * ty * z[j1, i1])
+
+
+#: seabed contact: along the local seabed normal (moorline), or vertical only (MoorDyn-C)
+CONTACT_MODES = ("normal", "vertical")
+#: seabed friction models: MoorDyn-C isotropic saturated damping, MoorDyn-F directional saturated
+#: damping, and moorline's elastic stick-slip (friction springs with anchors)
+FRICTION_MODELS = ("isotropic", "directional", "stickslip")
+
+
+@dataclass
 class Environment:
     """Water, gravity and seabed.
 
@@ -214,11 +280,23 @@ class Environment:
     rho : float
         Water density [kg/m^3].
     depth : float
-        Still-water depth [m, positive]; the flat seabed is z = -depth.
+        Still-water depth [m, positive]; the flat seabed is z = -depth (when there is no bathymetry).
     kBot, cBot : float
         Seabed contact stiffness [Pa/m] and damping [Pa s/m].
+    bathymetry : Bathymetry or None
+        Seabed height grid; None for a flat seabed at z = -depth.
+    contact : {'normal', 'vertical'}
+        Contact force along the local seabed normal, from the penetration measured normal to the
+        surface (default), or vertical as MoorDyn-C applies it even on a slope.
+    friction : {'isotropic', 'directional', 'stickslip'}
+        Seabed friction model (see :meth:`friction_coefficients`).
     mu, fric_damp, stat_dyn : float
         MoorDyn-C isotropic friction: coefficient, creep damping [N s/m], static/kinetic ratio.
+    mu_kT, mu_kA, mc, cv : float
+        MoorDyn-F directional friction: transverse and axial kinetic coefficients, static/kinetic
+        ratio, creep damping [N s/m].
+    kShear : float or None
+        Stick-slip friction spring stiffness per unit contact area [Pa/m]; None: kBot.
     """
 
     g: float = 9.80665
@@ -226,9 +304,31 @@ class Environment:
     depth: float = 0.0
     kBot: float = 3.0e6
     cBot: float = 3.0e5
+    bathymetry: Bathymetry | None = None
+    contact: str = "normal"
+    friction: str = "isotropic"
     mu: float = 0.0
     fric_damp: float = 200.0
     stat_dyn: float = 1.0
+    mu_kT: float = 0.0
+    mu_kA: float = 0.0
+    mc: float = 1.0
+    cv: float = 200.0
+    kShear: float | None = None
+
+    def friction_coefficients(self) -> tuple[float, float, float, float]:
+        """(mu transverse, mu axial, static/kinetic ratio, creep damping [N s/m]) of the chosen model.
+
+        isotropic: (mu, mu, stat_dyn, fric_damp), saturating the whole sliding velocity (MoorDyn-C);
+        directional: (mu_kT, mu_kA, mc, cv), axial and transverse saturated separately (MoorDyn-F);
+        stickslip: the directional coefficients when mu_kT or mu_kA is set, else the isotropic ones
+        (the damping is unused: the friction springs of stiffness kShear carry the force).
+        """
+        if self.friction == "isotropic":
+            return self.mu, self.mu, self.stat_dyn, self.fric_damp
+        if self.friction == "directional" or self.mu_kT > 0 or self.mu_kA > 0:
+            return self.mu_kT, self.mu_kA, self.mc, self.cv
+        return self.mu, self.mu, self.stat_dyn, self.fric_damp
 
 
 @dataclass

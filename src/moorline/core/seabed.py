@@ -1,0 +1,226 @@
+"""Seabed kernels: height and normal of a flat or gridded seabed, contact and friction of a node.
+
+Contact (spec 3.8): a node below the local seabed height z_b is pushed out with
+``F = (pen kBot - v_n cBot) d lam`` per unit contact area d * lam, where ``pen = (z_b - z) n_z`` is
+the penetration measured normal to the seabed and ``v_n = v . n``, along the local unit normal n
+(MoorDyn-F; on a flat seabed identical to MoorDyn-C). The ``vertical`` mode applies MoorDyn-C's
+vertical force ``((z_b - z) kBot - v_z cBot) d lam`` even on a slope.
+
+Friction (spec 3.9), on the node velocity in the seabed plane, with normal force N:
+
+- isotropic (MoorDyn-C): saturated damping of the whole sliding velocity, mu cv |v| up to
+  mc mu N, then mu N;
+- directional (MoorDyn-F): the same, separately for the axial part (along the line tangent) and the
+  transverse part with mu_kA and mu_kT;
+- stickslip (moorline): every node in contact holds its place with an elastic friction spring
+  (stiffness kShear, damping cBot, per unit contact area) to an anchor point, separately in the
+  axial and transverse directions. While the spring force stays below the static limit
+  mc mu N the node sticks; beyond it the anchor is dragged along so that the spring force is the
+  kinetic limit mu N (the node slides), until the spring force drops below the kinetic limit again
+  (the node sticks). Anchors are part of the system state; they are updated ("committed") once
+  per time step, at its first stage, and reset to the node when it leaves the seabed.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .layout import CONTACT_NORMAL, FRIC_DIRECTIONAL, FRIC_ISOTROPIC
+
+
+@njit(cache=True, error_model="numpy")
+def _locate(g, v):
+    """Cell index i with g[i] <= v < g[i+1] (clamped) and the fraction within it."""
+    n = g.size
+    if n == 1 or v <= g[0]:
+        return 0, 0.0
+    if v >= g[n - 1]:
+        return n - 2, 1.0
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if g[mid] <= v:
+            lo = mid
+        else:
+            hi = mid
+    return lo, (v - g[lo]) / (g[lo + 1] - g[lo])
+
+
+@njit(cache=True, error_model="numpy")
+def seabed_at(B, depth, x, y):
+    """Seabed height and unit normal at (x, y).
+
+    Returns
+    -------
+    zb, nx, ny, nz : float
+        Height [m] and the unit normal pointing out of the seabed.
+    outside : bool
+        The point lies outside the grid (the nearest edge value was used).
+    """
+    gx = B.gx
+    gy = B.gy
+    if gx.size == 0:
+        return -depth, 0.0, 0.0, 1.0, False
+    gz = B.gz
+    outside = x < gx[0] or x > gx[gx.size - 1] or y < gy[0] or y > gy[gy.size - 1]
+    i, tx = _locate(gx, x)
+    j, ty = _locate(gy, y)
+    i1 = i + 1 if gx.size > 1 else i
+    j1 = j + 1 if gy.size > 1 else j
+    z00 = gz[j, i]
+    z10 = gz[j, i1]
+    z01 = gz[j1, i]
+    z11 = gz[j1, i1]
+    zb = (1.0 - tx) * (1.0 - ty) * z00 + tx * (1.0 - ty) * z10 + (1.0 - tx) * ty * z01 + tx * ty * z11
+    # slope of the bilinear surface in the cell (zero along a clamped direction)
+    dzdx = 0.0
+    dzdy = 0.0
+    if gx.size > 1 and gx[0] <= x <= gx[gx.size - 1]:
+        dzdx = ((1.0 - ty) * (z10 - z00) + ty * (z11 - z01)) / (gx[i1] - gx[i])
+    if gy.size > 1 and gy[0] <= y <= gy[gy.size - 1]:
+        dzdy = ((1.0 - tx) * (z01 - z00) + tx * (z11 - z10)) / (gy[j1] - gy[j])
+    inv = 1.0 / math.sqrt(1.0 + dzdx * dzdx + dzdy * dzdy)
+    return zb, -dzdx * inv, -dzdy * inv, inv, outside
+
+
+@njit(cache=True, error_model="numpy")
+def _saturate(mu, cv, mc, N, vx, vy, vz):
+    """MoorDyn's saturated-damping friction on a sliding velocity: mu cv |v| while that is below
+    mc mu N, else mu N; opposite to v."""
+    vm = math.sqrt(vx * vx + vy * vy + vz * vz)
+    if vm == 0.0 or mu == 0.0:
+        return 0.0, 0.0, 0.0
+    flin = mu * cv * vm
+    ff = flin if flin <= mc * mu * N else mu * N
+    return -ff * vx / vm, -ff * vy / vm, -ff * vz / vm
+
+
+@njit(cache=True, error_model="numpy")
+def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
+    """One direction of the stick-slip friction: spring extension ``dd`` [m] and velocity ``vv``
+    [m/s] along it. Returns (force, new extension, new slip flag)."""
+    lim = mu * N if slipping else mc * mu * N
+    f = -k * dd - c * vv
+    if f > lim:
+        f = lim
+    elif f < -lim:
+        f = -lim
+    flag = 1.0 if slipping else 0.0
+    if commit:
+        fe = k * abs(dd)
+        if fe > lim:
+            # slide: the anchor is dragged so that the spring carries the kinetic limit
+            dd = dd * (mu * N / fe)
+            flag = 1.0
+        else:
+            flag = 0.0
+    return f, dd, flag
+
+
+@njit(cache=True, error_model="numpy")
+def seabed_force(E, B, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
+    """Contact and friction force on line node ``n`` at (rx, ry, rz) moving at (vx, vy, vz) with
+    tangent q, diameter ``d`` and unstretched nodal length ``lam``. Returns (fx, fy, fz)."""
+    zb, nx, ny, nz, outside = seabed_at(B, E.depth, rx, ry)
+    if outside:
+        B.ctl[2] += 1
+    stick = E.fric == 2 and B.ctl[0] != 0
+    commit = stick and B.ctl[1] != 0
+    if rz >= zb:
+        if commit:
+            B.anchor[n, 0] = rx
+            B.anchor[n, 1] = ry
+            B.anchor[n, 2] = rz
+            B.slip[n, 0] = 0.0
+            B.slip[n, 1] = 0.0
+        return 0.0, 0.0, 0.0
+    area = d * lam
+    if E.contact == CONTACT_NORMAL:
+        vn = vx * nx + vy * ny + vz * nz
+        fn = ((zb - rz) * nz * E.kBot - vn * E.cBot) * area
+        bx = fn * nx
+        by = fn * ny
+        bz = fn * nz
+    else:
+        # MoorDyn-C: vertical contact, friction on the horizontal velocity
+        nx = 0.0
+        ny = 0.0
+        nz = 1.0
+        vn = vz
+        fn = ((zb - rz) * E.kBot - vz * E.cBot) * area
+        bx = 0.0
+        by = 0.0
+        bz = fn
+    N = abs(fn)
+    # sliding velocity in the seabed plane
+    sx = vx - vn * nx
+    sy = vy - vn * ny
+    sz = vz - vn * nz
+    if E.fric == FRIC_ISOTROPIC:
+        fx, fy, fz = _saturate(E.muT, E.cv, E.mc, N, sx, sy, sz)
+        return bx + fx, by + fy, bz + fz
+    if E.fric == FRIC_DIRECTIONAL:
+        va = sx * qx + sy * qy + sz * qz
+        ax, ay, az = _saturate(E.muA, E.cv, E.mc, N, va * qx, va * qy, va * qz)
+        tx, ty, tz = _saturate(E.muT, E.cv, E.mc, N, sx - va * qx, sy - va * qy, sz - va * qz)
+        return bx + ax + tx, by + ay + ty, bz + az + tz
+    if not stick:
+        return bx, by, bz
+    # stick-slip: axial direction = line tangent projected on the seabed plane
+    qn = qx * nx + qy * ny + qz * nz
+    ux = qx - qn * nx
+    uy = qy - qn * ny
+    uz = qz - qn * nz
+    um = math.sqrt(ux * ux + uy * uy + uz * uz)
+    if um > 0.0:
+        ux /= um
+        uy /= um
+        uz /= um
+    N = max(fn, 0.0)
+    dx = rx - B.anchor[n, 0]
+    dy = ry - B.anchor[n, 1]
+    dz = rz - B.anchor[n, 2]
+    dn = dx * nx + dy * ny + dz * nz
+    dx -= dn * nx
+    dy -= dn * ny
+    dz -= dn * nz
+    k = E.kshear * area
+    c = E.cshear * area
+    da = dx * ux + dy * uy + dz * uz
+    va = sx * ux + sy * uy + sz * uz
+    fa, da2, sa = _stick(k, c, E.muA, E.mc, N, da, va, B.slip[n, 0] != 0.0, commit)
+    # transverse: the in-plane remainder, as a vector along its own direction
+    tx = dx - da * ux
+    ty = dy - da * uy
+    tz = dz - da * uz
+    wx = sx - va * ux
+    wy = sy - va * uy
+    wz = sz - va * uz
+    tm = math.sqrt(tx * tx + ty * ty + tz * tz)
+    if tm > 0.0:
+        ex = tx / tm
+        ey = ty / tm
+        ez = tz / tm
+    else:
+        wm = math.sqrt(wx * wx + wy * wy + wz * wz)
+        if wm > 0.0:
+            ex = wx / wm
+            ey = wy / wm
+            ez = wz / wm
+        else:
+            ex = 0.0
+            ey = 0.0
+            ez = 0.0
+    vt = wx * ex + wy * ey + wz * ez
+    ft, tm2, st = _stick(k, c, E.muT, E.mc, N, tm, vt, B.slip[n, 1] != 0.0, commit)
+    if commit:
+        # new anchor: the node minus the committed in-plane extensions (normal offset dropped)
+        B.anchor[n, 0] = rx - da2 * ux - tm2 * ex
+        B.anchor[n, 1] = ry - da2 * uy - tm2 * ey
+        B.anchor[n, 2] = rz - da2 * uz - tm2 * ez
+        B.slip[n, 0] = sa
+        B.slip[n, 1] = st
+    return bx + fa * ux + ft * ex, by + fa * uy + ft * ey, bz + fa * uz + ft * ez
