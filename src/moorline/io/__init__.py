@@ -1,5 +1,8 @@
-"""MoorDyn v2 input decks: :func:`read_deck`, :func:`write_deck` and EA/BA/EI curve files."""
+"""MoorDyn v2 input decks (:func:`read_deck`, :func:`write_deck`), EA/BA/EI curve files and seabed
+bathymetry files."""
 
+from .bathymetry import find_seafloor_file, read_depth_grid, read_seafloor_grid, write_seafloor_grid
 from .deck import read_curve, read_deck, read_deck_text, write_deck
 
-__all__ = ["read_curve", "read_deck", "read_deck_text", "write_deck"]
+__all__ = ["find_seafloor_file", "read_curve", "read_deck", "read_deck_text", "read_depth_grid",
+           "read_seafloor_grid", "write_deck", "write_seafloor_grid"]
