@@ -255,8 +255,9 @@ class System:
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
         dy = self._S[0]
-        L, P, E, B, W = self.layout.lines, self.layout.points, self.layout.env, self.layout.seabed, self.work
-        rhs(self.t, self.y, dy, L, P, E, B, self._motion, W, 1.0, piece)
+        L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
+                            self.layout.seabed, self.work)
+        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, 1.0, piece)
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N], in coupled-DOF order."""
@@ -324,10 +325,11 @@ class System:
 
     def _solve_ic(self) -> None:
         opts = self.model.options
-        L, P, E, B, W = self.layout.lines, self.layout.points, self.layout.env, self.layout.seabed, self.work
+        L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
+                            self.layout.seabed, self.work)
         if opts.ICgenDynamic:
             ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), opts.dtIC, opts.TmaxIC,
-                                              opts.threshIC, opts.CdScaleIC, L, P, E, B, self._motion, W,
+                                              opts.threshIC, opts.CdScaleIC, L, R, P, E, B, self._motion, W,
                                               self._S, MAX_NODE_SPEED)
             if bad >= 0:
                 raise self._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
@@ -336,7 +338,7 @@ class System:
             seg_min = float(np.min(L.seg_l0))
             cfl_ic = min(float(opts.CFL), 1.0)
             status, tic, emean, it = stationary_solve(self.y, self.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
-                                                      cfl_ic, seg_min, L, P, E, B, self._motion, W, self._S)
+                                                      cfl_ic, seg_min, L, R, P, E, B, self._motion, W, self._S)
             if status < 0 or not np.all(np.isfinite(self.y)):
                 raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
                                       "try ICgenDynamic 1 or a smaller dtM", time=0.0)
@@ -400,9 +402,10 @@ class System:
 
     def _advance(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
-        L, P, E, B, W = self.layout.lines, self.layout.points, self.layout.env, self.layout.seabed, self.work
+        L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
+                            self.layout.seabed, self.work)
         last_stage = self.loads_at == "last_stage"
-        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, P, E, B, motion, W, 1.0,
+        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, R, P, E, B, motion, W, 1.0,
                                    self._S, MAX_NODE_SPEED, not last_stage)
         self.t = t
         if bad >= 0:

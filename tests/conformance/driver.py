@@ -80,6 +80,12 @@ def initial_rows(system: System) -> list[list]:
     for p in system.points:
         f = p.force()
         rows.append(["point", p.number, 0, *p.position(), *p.velocity(), *f, np.linalg.norm(f), ""] + [""] * 6)
+    w = system.work
+    for k, rod in enumerate(system.model.rods):
+        a, b = w.rodr[k, 0], w.rodr[k, 1]
+        for j in range(rod.N + 1):
+            f = j / rod.N if rod.N else 0.0
+            rows.append(["rod", k + 1, j, *(a + f * (b - a)), *np.zeros(3)] + [""] * 11)
     return rows
 
 

@@ -18,8 +18,11 @@ slope; moorline's default pushes along the local seabed normal. The case is comp
 against its physical size: a frictionless chain on a slope carries the down-slope component of the
 weight of its lying part in tension, w_wet * L * sin(a), which vertical contact does not see.
 
-The cases with rods, bodies, bending stiffness, waves and currents belong to later work and are not
-run here.
+Bending stiffness (``beam_cantilever_*``): a cable clamped to a fixed rod. With ``TmaxIC 0``
+MoorDyn reports zero curvature before its first step (a quirk the corpus README documents for
+tensions); the release case's curvature group therefore starts at the first step.
+
+The cases with free rods, bodies, waves and currents belong to later work and are not run here.
 """
 
 from __future__ import annotations
@@ -32,6 +35,9 @@ from .driver import CONF, compare, gen_reference, run_case
 pytestmark = [pytest.mark.conformance,
               pytest.mark.skipif(not (CONF / "cases.yaml").exists(), reason="../shared/conformance is absent")]
 
+#: per-case adjustments of the corpus' compare groups, each with its reason in the module docstring
+T_MIN = {("beam_cantilever_release", "L1_n*_curv"): 0.01}
+
 LINE_POINT_CASES = [
     "catenary_3line_static",
     "catenary_3line_surge",
@@ -40,9 +46,12 @@ LINE_POINT_CASES = [
     "bridle_clump_buoy_surge",
     "polyester_motion_csv",
     "seabed_friction_drag",
+    "beam_cantilever_static",
+    "beam_cantilever_release",
 ]
 
-OWN_IC_CASES = [c for c in LINE_POINT_CASES if c != "pendulum_point_mass"]
+#: own-IC checks: not the pendulum (no equilibrium), not the released beam (no IC solve)
+OWN_IC_CASES = [c for c in LINE_POINT_CASES if c not in ("pendulum_point_mass", "beam_cantilever_release")]
 
 
 def _check(results):
@@ -56,6 +65,12 @@ def _check(results):
 def test_dynamics_from_moordyn_initial_state(case, tmp_path):
     pytest.importorskip("yaml")
     res = run_case(case, own_ic=False, out_dir=tmp_path)
+    groups = []
+    for grp in res["spec"].get("compare", []):
+        cols = grp["columns"] if isinstance(grp["columns"], list) else [grp["columns"]]
+        key = (case, ",".join(cols))
+        groups.append(dict(grp, t_min=T_MIN[key]) if key in T_MIN else grp)
+    res["spec"] = dict(res["spec"], compare=groups)
     _check(compare(case, res, initial=False))
 
 

@@ -169,20 +169,33 @@ def test_bridle_clump_buoy_values():
     assert m.lines[4].end_a == Attachment("point", 3) and m.lines[4].end_b == Attachment("point", 5)
 
 
-def test_bodies_and_rods_deck_rejected_naming_sections():
+def test_bodies_deck_rejected_naming_the_section():
     path = conformance_deck("bodies_and_rods/BodiesAndRods.dat")
     with pytest.raises(DeckError) as ei:
         read_deck(path)
     msg = str(ei.value)
     assert "BodiesAndRods.dat" in msg
-    assert "RODS" in msg and "BODIES" in msg and "not supported yet" in msg
-    assert ei.value.line == 8  # the ROD TYPES header, first unsupported section
+    assert "section BODIES" in msg and "not supported yet" in msg
+    assert ei.value.line == 12  # the BODIES header
 
 
-def test_deck_with_only_rods_rejected():
-    path = conformance_deck("rod_free/AddedMass.txt")
-    with pytest.raises(DeckError, match="ROD TYPES.*RODS.*not supported yet"):
-        read_deck(path)
+def test_free_rod_rejected_at_its_row():
+    rods = ("---- ROD TYPES ----\nName Diam Mass Cd Ca CdEnd CaEnd\n(-) (m) (kg/m) (-) (-) (-) (-)\n"
+            "can 0.5 50 0.6 1.0 0.5 1.0\n---- RODS ----\nID Type Att Xa Ya Za Xb Yb Zb N Out\n"
+            "(#) (-) (-) (m) (m) (m) (m) (m) (m) (-) (-)\n1 can Free 0 0 -10 0 0 -5 4 -\n")
+    text = SMALL.replace("------------------------ POINTS", rods + "------------------------ POINTS", 1)
+    assert rods in text
+    with pytest.raises(DeckError, match="rod 1: free rods are not supported yet") as ei:
+        read_deck_text(text, path="r.txt")
+    assert ei.value.row is not None and "can Free" in ei.value.row
+
+
+def test_fixed_rod_and_clamped_line():
+    m = read_deck(conformance_deck("beam_cantilever/BeamCantilevered.txt"))
+    assert len(m.rods) == 1 and m.rods[0].kind.name == "FIXED" and m.rods[0].N == 1
+    assert m.rod_types["cantilever"].d == 0.25
+    assert m.lines[0].end_a == Attachment("rod", 0, "B")
+    assert m.line_types["beam"].EI == 1e7
 
 
 def test_empty_bodies_section_is_harmless():

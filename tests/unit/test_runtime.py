@@ -200,4 +200,4 @@ def test_cli_statics_and_check(capsys):
     assert cli_main(["statics", str(EXAMPLE)]) == 0
     assert "fairlead tension" in capsys.readouterr().out
     assert cli_main(["check", str(EXAMPLE)]) == 0
-    assert "fastest mode" in capsys.readouterr().out
+    assert "governing mode" in capsys.readouterr().out

@@ -63,7 +63,7 @@ def _axpy(out, y, h, k):
 
 
 @njit(cache=True, error_model="numpy")
-def step(y, t, h, scheme, L, P, E, B, Mo, W, cd_scale, S, piece):
+def step(y, t, h, scheme, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch."""
     k1 = S[0]
     k2 = S[1]
@@ -72,23 +72,23 @@ def step(y, t, h, scheme, L, P, E, B, Mo, W, cd_scale, S, piece):
     yt = S[4]
     # the stick-slip friction anchors are committed at the first stage of every step
     B.ctl[1] = 1
-    rhs(t, y, k1, L, P, E, B, Mo, W, cd_scale, piece)
+    rhs(t, y, k1, L, R, P, E, B, Mo, W, cd_scale, piece)
     B.ctl[1] = 0
     if scheme == 0:
         for i in range(y.size):
             y[i] += h * k1[i]
     elif scheme == 1:
         _axpy(yt, y, 0.5 * h, k1)
-        rhs(t + 0.5 * h, yt, k2, L, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + 0.5 * h, yt, k2, L, R, P, E, B, Mo, W, cd_scale, piece)
         for i in range(y.size):
             y[i] += h * k2[i]
     else:
         _axpy(yt, y, 0.5 * h, k1)
-        rhs(t + 0.5 * h, yt, k2, L, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + 0.5 * h, yt, k2, L, R, P, E, B, Mo, W, cd_scale, piece)
         _axpy(yt, y, 0.5 * h, k2)
-        rhs(t + 0.5 * h, yt, k3, L, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + 0.5 * h, yt, k3, L, R, P, E, B, Mo, W, cd_scale, piece)
         _axpy(yt, y, h, k3)
-        rhs(t + h, yt, k4, L, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + h, yt, k4, L, R, P, E, B, Mo, W, cd_scale, piece)
         c = h / 6.0
         for i in range(y.size):
             y[i] += c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -109,7 +109,7 @@ def check_state(y, vmax):
 
 
 @njit(cache=True, error_model="numpy")
-def advance(y, t, t_end, dtM, scheme, L, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
+def advance(y, t, t_end, dtM, scheme, L, R, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
     ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory
     piece) so that the Work arrays describe the state at ``t_end``.
@@ -138,7 +138,7 @@ def advance(y, t, t_end, dtM, scheme, L, P, E, B, Mo, W, cd_scale, S, vmax, fina
         if j < nk and Mo.t[j] - t < h:
             h = Mo.t[j] - t
         piece = motion_piece(Mo, t + 0.5 * h)
-        step(y, t, h, scheme, L, P, E, B, Mo, W, cd_scale, S, piece)
+        step(y, t, h, scheme, L, R, P, E, B, Mo, W, cd_scale, S, piece)
         n_steps += 1
         if t_end - (t + h) <= tol:
             t = t_end
@@ -150,5 +150,5 @@ def advance(y, t, t_end, dtM, scheme, L, P, E, B, Mo, W, cd_scale, S, vmax, fina
         if bad >= 0:
             return t, bad, n_steps, piece
     if final_eval:
-        rhs(t, y, S[0], L, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t, y, S[0], L, R, P, E, B, Mo, W, cd_scale, piece)
     return t, -1, n_steps, piece

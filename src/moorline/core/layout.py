@@ -29,6 +29,8 @@ P_FREE = int(PointKind.FREE)
 
 # attachment kinds of line ends
 ATT_POINT = 0
+ATT_ROD_A = 1
+ATT_ROD_B = 2
 
 
 class LineArrays(NamedTuple):
@@ -36,8 +38,9 @@ class LineArrays(NamedTuple):
 
     node_ptr: np.ndarray  # int64 (n_lines+1,)
     seg_ptr: np.ndarray  # int64 (n_lines+1,)
-    end_kind: np.ndarray  # int64 (n_lines, 2): attachment kind of end A, end B
-    end_idx: np.ndarray  # int64 (n_lines, 2): index of the point (or rod) attached
+    end_kind: np.ndarray  # int64 (n_lines, 2): attachment kind of end A, end B (ATT_*)
+    end_idx: np.ndarray  # int64 (n_lines, 2): index of the point or rod attached
+    clamped: np.ndarray  # int64 (n_lines, 2): 1 if the end is clamped to its rod (line with EI on a rod end)
     d: np.ndarray  # (n_lines,) diameter [m]
     A: np.ndarray  # (n_lines,) area [m^2]
     w: np.ndarray  # (n_lines,) mass per length [kg/m]
@@ -47,12 +50,21 @@ class LineArrays(NamedTuple):
     CaAx: np.ndarray
     ea_tab: np.ndarray  # int64 (n_lines, 2): start, count in tab_x/tab_y (count 0: constant EA)
     ba_tab: np.ndarray  # int64 (n_lines, 2): same for the damping table
+    EI: np.ndarray  # (n_lines,) bending stiffness [N m^2] (constant-EI lines)
+    ei_tab: np.ndarray  # int64 (n_lines, 2): start, count of the curvature-moment table (count 0: constant)
     seg_l0: np.ndarray  # (n_seg,) unstretched segment length [m]
     seg_EA: np.ndarray  # (n_seg,) axial stiffness [N] (constant-EA lines)
     seg_BA: np.ndarray  # (n_seg,) internal damping [N s] (constant-BA lines)
     tab_x: np.ndarray  # flat table abscissae
     tab_y: np.ndarray  # flat table ordinates
     node_row: np.ndarray  # int64 (n_nodes,): state row of the node, -1 for end nodes
+
+
+class RodArrays(NamedTuple):
+    kind: np.ndarray  # int64 (n_rods,) RodKind
+    N: np.ndarray  # int64 (n_rods,) segments (0: zero-length rod; its end B in the deck gives its direction)
+    rA0: np.ndarray  # (n_rods, 3) deck position of end A [m]
+    rB0: np.ndarray  # (n_rods, 3) deck position of end B [m]
 
 
 class PointArrays(NamedTuple):
@@ -115,6 +127,7 @@ class Work(NamedTuple):
     seg_len: np.ndarray  # (n_seg,) stretched length
     seg_ldot: np.ndarray  # (n_seg,) stretch rate [m/s]
     seg_F: np.ndarray  # (n_seg,) submerged fraction
+    seg_e: np.ndarray  # (n_seg, 3) unit vectors from node k to k+1
     q: np.ndarray  # (n_nodes, 3) node tangents
     F: np.ndarray  # (n_nodes, 3) net node force
     Fhyd: np.ndarray  # (n_nodes, 3) drag + fluid inertia
@@ -123,6 +136,12 @@ class Work(NamedTuple):
     mass: np.ndarray  # (n_nodes, 3): m, transverse and tangential added mass [kg]
     acc: np.ndarray  # (n_nodes, 3) node accelerations (internal nodes)
     kurv: np.ndarray  # (n_nodes,) curvature [1/m]
+    Fbend: np.ndarray  # (n_nodes, 3) bending forces
+    end_moment: np.ndarray  # (n_lines, 2, 3) bending moment of clamped ends on their rods [N m]
+    rodr: np.ndarray  # (n_rods, 2, 3) rod end positions
+    rodv: np.ndarray  # (n_rods, 2, 3) rod end velocities
+    rodq: np.ndarray  # (n_rods, 3) rod axis (unit vector from end A to B)
+    rodF: np.ndarray  # (n_rods, 2, 3) sum of the line end forces on each rod end
     pr: np.ndarray  # (n_points, 3)
     pv: np.ndarray  # (n_points, 3)
     pa: np.ndarray  # (n_points, 3) acceleration (free points; imposed for coupled)
@@ -151,6 +170,7 @@ class Layout:
     """Everything the kernels need, plus the Python-side bookkeeping to read results back."""
 
     lines: LineArrays
+    rods: RodArrays
     points: PointArrays
     env: EnvArrays
     seabed: Seabed
@@ -168,12 +188,18 @@ class Layout:
     def new_work(self) -> Work:
         nn = int(self.lines.node_ptr[-1])
         ns = int(self.lines.seg_ptr[-1])
+        nl = len(self.line_N)
+        nr = len(self.rods.kind)
         npnt = len(self.points.kind)
+        nc = self.n_coupled_dof
         z = np.zeros
-        return Work(z((nn, 3)), z((nn, 3)), z((nn, 3)), z((nn, 3)), z(nn), z((ns, 3)), z((ns, 3)), z(ns), z(ns),
-                    z(ns), z((nn, 3)), z((nn, 3)), z((nn, 3)), z((nn, 3)), z((nn, 3)), z((nn, 3)), z((nn, 3)),
-                    z(nn), z((npnt, 3)), z((npnt, 3)), z((npnt, 3)), z((npnt, 3)), z((npnt, 3, 3)),
-                    z((npnt, 3)), z(self.n_coupled_dof), z(self.n_coupled_dof), z(self.n_coupled_dof))
+        return Work(r=z((nn, 3)), v=z((nn, 3)), U=z((nn, 3)), Ud=z((nn, 3)), zeta=z(nn), T=z((ns, 3)),
+                    Td=z((ns, 3)), seg_len=z(ns), seg_ldot=z(ns), seg_F=z(ns), seg_e=z((ns, 3)), q=z((nn, 3)),
+                    F=z((nn, 3)), Fhyd=z((nn, 3)), Fbed=z((nn, 3)), W=z((nn, 3)), mass=z((nn, 3)),
+                    acc=z((nn, 3)), kurv=z(nn), Fbend=z((nn, 3)), end_moment=z((nl, 2, 3)), rodr=z((nr, 2, 3)),
+                    rodv=z((nr, 2, 3)), rodq=z((nr, 3)), rodF=z((nr, 2, 3)), pr=z((npnt, 3)), pv=z((npnt, 3)),
+                    pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
+                    ac=z(nc))
 
 
 def effective_depth(model: Model) -> float:
@@ -203,6 +229,9 @@ def build_layout(model: Model) -> Layout:
 
     end_kind = np.zeros((nl, 2), dtype=np.int64)
     end_idx = np.zeros((nl, 2), dtype=np.int64)
+    clamped = np.zeros((nl, 2), dtype=np.int64)
+    EI = np.zeros(nl)
+    ei_tab = np.zeros((nl, 2), dtype=np.int64)
     props = {k: np.zeros(nl) for k in ("d", "A", "w", "Cd", "Ca", "CdAx", "CaAx")}
     ea_tab = np.zeros((nl, 2), dtype=np.int64)
     ba_tab = np.zeros((nl, 2), dtype=np.int64)
@@ -222,8 +251,16 @@ def build_layout(model: Model) -> Layout:
     for k, ln in enumerate(model.lines):
         lt = model.line_types[ln.line_type]
         for j, att in enumerate((ln.end_a, ln.end_b)):
-            end_kind[k, j] = ATT_POINT
+            if att.kind == "point":
+                end_kind[k, j] = ATT_POINT
+            else:
+                end_kind[k, j] = ATT_ROD_A if att.end == "A" else ATT_ROD_B
+                clamped[k, j] = int(lt.has_bending)
             end_idx[k, j] = att.index
+        if isinstance(lt.EI, Curve):
+            ei_tab[k] = add_table(lt.EI)
+        else:
+            EI[k] = lt.EI
         for name in props:
             props[name][k] = getattr(lt, name)
         L = ln.L
@@ -275,9 +312,14 @@ def build_layout(model: Model) -> Layout:
         F_ext=np.array([p.F_ext for p in model.points], dtype=float).reshape(npnt, 3),
         row=prow, cpl=cpl,
     )
-    lines = LineArrays(node_ptr, seg_ptr, end_kind, end_idx, props["d"], props["A"], props["w"], props["Cd"],
-                       props["Ca"], props["CdAx"], props["CaAx"], ea_tab, ba_tab, seg_l0, seg_EA, seg_BA,
-                       np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row)
+    lines = LineArrays(node_ptr, seg_ptr, end_kind, end_idx, clamped, props["d"], props["A"], props["w"],
+                       props["Cd"], props["Ca"], props["CdAx"], props["CaAx"], ea_tab, ba_tab, EI, ei_tab, seg_l0,
+                       seg_EA, seg_BA, np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row)
+    nrod = len(model.rods)
+    rods = RodArrays(np.array([int(r.kind) for r in model.rods], dtype=np.int64),
+                     np.array([r.N for r in model.rods], dtype=np.int64),
+                     np.array([r.rA for r in model.rods], dtype=float).reshape(nrod, 3),
+                     np.array([r.rB for r in model.rods], dtype=float).reshape(nrod, 3))
     e = model.env
     muT, muA, mc, cv = e.friction_coefficients()
     fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
@@ -291,7 +333,7 @@ def build_layout(model: Model) -> Layout:
     else:
         grid = (b.x.copy(), b.y.copy(), b.z.copy())
     seabed = Seabed(*grid, np.zeros((nn, 3)), np.zeros((nn, 2)), np.zeros(3, dtype=np.int64))
-    return Layout(lines, points, env, seabed, row, 3 * len(coupled), N, line_L,
+    return Layout(lines, rods, points, env, seabed, row, 3 * len(coupled), N, line_L,
                   [ln.line_type for ln in model.lines], coupled)
 
 

@@ -13,7 +13,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .seabed import seabed_force
+from .layout import ATT_ROD_A, ATT_ROD_B
+from .seabed import seabed_at, seabed_force
 
 _EPS = 1e-12
 
@@ -70,7 +71,7 @@ def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
     return -zlow / (-zlow + zup)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def line_forces(li, L, E, B, W, cd_scale):
     """Evaluate every load of line ``li`` and the accelerations of its internal nodes.
 
@@ -123,7 +124,18 @@ def line_forces(li, L, E, B, W, cd_scale):
     w_W = W.W
     w_mass = W.mass
     w_acc = W.acc
-    w_kurv = W.kurv
+    seg_e = W.seg_e
+    Fbend = W.Fbend
+    gx = B.gx
+    gy = B.gy
+    gz = B.gz
+    anchor = B.anchor
+    slip = B.slip
+    ctl = B.ctl
+    flat = gx.size == 0
+    stick_commit = E.fric == 2 and ctl[0] != 0 and ctl[1] != 0
+    clamped_a = L.clamped[li, 0] != 0
+    clamped_b = L.clamped[li, 1] != 0
 
     # ---- segments: length, direction, strain, tension, damping, submergence
     for k in range(N):
@@ -170,7 +182,13 @@ def line_forces(li, L, E, B, W, cd_scale):
         w_Td[s, 2] = Dm * ez
         w_seg_len[s] = ls
         w_seg_ldot[s] = ldot
+        seg_e[s, 0] = ex
+        seg_e[s, 1] = ey
+        seg_e[s, 2] = ez
         w_seg_F[s] = segment_wet_fraction(r, a, b, w_zeta[a], w_zeta[b], d)
+
+    # ---- curvature and bending forces (spec 3.10)
+    line_bending(li, L, W)
 
     # ---- nodes
     for i in range(N + 1):
@@ -193,6 +211,8 @@ def line_forces(li, L, E, B, W, cd_scale):
             qx /= qn
             qy /= qn
             qz /= qn
+        if (i == 0 and clamped_a) or (i == N and clamped_b):
+            qx, qy, qz = end_tangent(L, W, li, 0 if i == 0 else 1)
         w_q[n, 0] = qx
         w_q[n, 1] = qy
         w_q[n, 2] = qz
@@ -258,15 +278,36 @@ def line_forces(li, L, E, B, W, cd_scale):
         w_Fhyd[n, 2] = hz
 
         # seabed contact and friction
-        bx, by, bz = seabed_force(E, B, n, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d,
-                                  lam)
+        if flat:
+            zb = -E.depth
+            bnx = 0.0
+            bny = 0.0
+            bnz = 1.0
+        else:
+            zb, bnx, bny, bnz, outside = seabed_at(gx, gy, gz, E.depth, r[n, 0], r[n, 1])
+            if outside:
+                ctl[2] += 1
+        if r[n, 2] < zb:
+            bx, by, bz = seabed_force(E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1], r[n, 2],
+                                      v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam)
+        else:
+            bx = 0.0
+            by = 0.0
+            bz = 0.0
+            if stick_commit:
+                # off the seabed: the friction spring of the node is relaxed at its position
+                anchor[n, 0] = r[n, 0]
+                anchor[n, 1] = r[n, 1]
+                anchor[n, 2] = r[n, 2]
+                slip[n, 0] = 0.0
+                slip[n, 1] = 0.0
         w_Fbed[n, 0] = bx
         w_Fbed[n, 1] = by
         w_Fbed[n, 2] = bz
 
-        fx += hx + bx
-        fy += hy + by
-        fz += wz + hz + bz
+        fx += hx + bx + Fbend[n, 0]
+        fy += hy + by + Fbend[n, 1]
+        fz += wz + hz + bz + Fbend[n, 2]
         w_F[n, 0] = fx
         w_F[n, 1] = fy
         w_F[n, 2] = fz
@@ -289,24 +330,125 @@ def line_forces(li, L, E, B, W, cd_scale):
             w_acc[n, 1] = 0.0
             w_acc[n, 2] = 0.0
 
-    # ---- geometric curvature at internal nodes (spec 3.10); zero at pinned ends
-    w_kurv[n0] = 0.0
-    w_kurv[n0 + N] = 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def end_tangent(L, W, li, j):
+    """Direction a clamped end ``j`` (0: end A, 1: end B) of line ``li`` takes from its rod: the
+    cable leaves the rod straight, so end A on rod end B and end B on rod end A follow the rod axis
+    (A to B), the other two pairings its opposite (spec 3.10)."""
+    r = L.end_idx[li, j]
+    kind = L.end_kind[li, j]
+    sgn = 1.0 if (j == 0 and kind == ATT_ROD_B) or (j == 1 and kind == ATT_ROD_A) else -1.0
+    return sgn * W.rodq[r, 0], sgn * W.rodq[r, 1], sgn * W.rodq[r, 2]
+
+
+@njit(cache=True, error_model="numpy")
+def _kappa(lam, ax, ay, az, bx, by, bz):
+    """Curvature (4/lam) sin(theta/2) between unit vectors a and b over length lam, and the unit
+    bending axis a x b (zero when a and b are parallel)."""
+    c = ax * bx + ay * by + az * bz
+    if c >= 1.0 - 2.220446049250313e-16 or lam <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    kap = 4.0 / lam * math.sqrt(0.5 * (1.0 - c))
+    px = ay * bz - az * by
+    py = az * bx - ax * bz
+    pz = ax * by - ay * bx
+    pn = math.sqrt(px * px + py * py + pz * pz)
+    if pn == 0.0:  # anti-parallel: no defined bending plane
+        return kap, 0.0, 0.0, 0.0
+    return kap, px / pn, py / pn, pz / pn
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def line_bending(li, L, W):
+    """Curvature at every node of line ``li`` and, for lines with bending stiffness, the bending
+    forces: at each bent node a self-equilibrated triple of forces on the node and its two
+    neighbours (spec 3.10); at an end clamped to a rod, the couple of the end segment against the
+    rod axis. Needs the segment lengths and unit vectors of the current evaluation."""
+    n0 = L.node_ptr[li]
+    N = L.node_ptr[li + 1] - n0 - 1
+    s0 = L.seg_ptr[li]
+    seg_e = W.seg_e
+    seg_len = W.seg_len
+    kurv = W.kurv
+    Fb = W.Fbend
+    EIc = L.EI[li]
+    et0 = L.ei_tab[li, 0]
+    etn = L.ei_tab[li, 1]
+    stiff = EIc > 0.0 or etn > 0
+    for i in range(N + 1):
+        kurv[n0 + i] = 0.0
+        Fb[n0 + i, 0] = 0.0
+        Fb[n0 + i, 1] = 0.0
+        Fb[n0 + i, 2] = 0.0
+    for j in range(2):
+        for c in range(3):
+            W.end_moment[li, j, c] = 0.0
     for i in range(1, N):
-        sa = s0 + i - 1
-        sb = s0 + i
-        la = w_seg_len[sa]
-        lb = w_seg_len[sb]
-        if la <= 0.0 or lb <= 0.0:
-            w_kurv[n0 + i] = 0.0
-            continue
+        a = s0 + i - 1
+        b = s0 + i
+        la = seg_len[a]
+        lb = seg_len[b]
+        kap, px, py, pz = _kappa(la + lb, seg_e[a, 0], seg_e[a, 1], seg_e[a, 2], seg_e[b, 0], seg_e[b, 1],
+                                 seg_e[b, 2])
         n = n0 + i
-        c = ((r[n, 0] - r[n - 1, 0]) * (r[n + 1, 0] - r[n, 0]) + (r[n, 1] - r[n - 1, 1]) * (r[n + 1, 1] - r[n, 1])
-             + (r[n, 2] - r[n - 1, 2]) * (r[n + 1, 2] - r[n, 2])) / (la * lb)
-        if c >= 1.0 - 2.220446049250313e-16:
-            w_kurv[n] = 0.0
+        kurv[n] = kap
+        if not stiff or kap == 0.0:
+            continue
+        m = kap * EIc if etn == 0 else table_interp(L.tab_x, L.tab_y, et0, etn, kap)
+        # f_{i-1} = (M / l_a) e_a x p,  f_{i+1} = (M / l_b) e_b x p,  f_i = -(f_{i-1} + f_{i+1})
+        ca = m / la
+        cb = m / lb
+        fax = ca * (seg_e[a, 1] * pz - seg_e[a, 2] * py)
+        fay = ca * (seg_e[a, 2] * px - seg_e[a, 0] * pz)
+        faz = ca * (seg_e[a, 0] * py - seg_e[a, 1] * px)
+        fbx = cb * (seg_e[b, 1] * pz - seg_e[b, 2] * py)
+        fby = cb * (seg_e[b, 2] * px - seg_e[b, 0] * pz)
+        fbz = cb * (seg_e[b, 0] * py - seg_e[b, 1] * px)
+        Fb[n - 1, 0] += fax
+        Fb[n - 1, 1] += fay
+        Fb[n - 1, 2] += faz
+        Fb[n + 1, 0] += fbx
+        Fb[n + 1, 1] += fby
+        Fb[n + 1, 2] += fbz
+        Fb[n, 0] -= fax + fbx
+        Fb[n, 1] -= fay + fby
+        Fb[n, 2] -= faz + fbz
+    # clamped ends: the rod axis acts as a segment reflected about the end node
+    for j in range(2):
+        if L.clamped[li, j] == 0:
+            continue
+        qx, qy, qz = end_tangent(L, W, li, j)
+        if j == 0:
+            s = s0
+            kap, px, py, pz = _kappa(seg_len[s], qx, qy, qz, seg_e[s, 0], seg_e[s, 1], seg_e[s, 2])
+            nend = n0
+            nin = n0 + 1
+            sgn = 1.0
         else:
-            w_kurv[n] = 4.0 / (la + lb) * math.sqrt(0.5 * (1.0 - c))
+            s = s0 + N - 1
+            kap, px, py, pz = _kappa(seg_len[s], seg_e[s, 0], seg_e[s, 1], seg_e[s, 2], qx, qy, qz)
+            nend = n0 + N
+            nin = n0 + N - 1
+            sgn = -1.0
+        kurv[nend] = kap
+        if not stiff or kap == 0.0:
+            continue
+        m = kap * EIc if etn == 0 else table_interp(L.tab_x, L.tab_y, et0, etn, kap)
+        cm = m / seg_len[s]
+        fx = cm * (seg_e[s, 1] * pz - seg_e[s, 2] * py)
+        fy = cm * (seg_e[s, 2] * px - seg_e[s, 0] * pz)
+        fz = cm * (seg_e[s, 0] * py - seg_e[s, 1] * px)
+        Fb[nin, 0] += fx
+        Fb[nin, 1] += fy
+        Fb[nin, 2] += fz
+        Fb[nend, 0] -= fx
+        Fb[nend, 1] -= fy
+        Fb[nend, 2] -= fz
+        W.end_moment[li, j, 0] = sgn * m * px
+        W.end_moment[li, j, 1] = sgn * m * py
+        W.end_moment[li, j, 2] = sgn * m * pz
 
 
 @njit(cache=True, error_model="numpy")

@@ -11,7 +11,7 @@ import math
 
 from numba import njit
 
-from .layout import ATT_POINT, P_COUPLED, P_FIXED, P_FREE
+from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
 
 
@@ -48,8 +48,8 @@ def motion_eval(Mo, t, piece, x, v, a):
         a[j] = 2.0 * c2 + 6.0 * s * c3
 
 
-@njit(cache=True, error_model="numpy")
-def set_kinematics(t, y, L, P, Mo, W, piece):
+@njit(cache=True, error_model="numpy", inline="always")
+def set_kinematics(t, y, L, R, P, Mo, W, piece):
     """Points and line nodes from the state ``y`` and the coupled trajectory at time ``t``."""
     # arrays are bound to locals once: reading them from a NamedTuple inside a loop costs a
     # reference-count update per access
@@ -90,15 +90,40 @@ def set_kinematics(t, y, L, P, Mo, W, piece):
             for c in range(3):
                 pr[p, c] = y[o + c]
                 pv[p, c] = y[uoff + o + c]
+    rodr = W.rodr
+    rodv = W.rodv
+    for k in range(R.kind.size):
+        # fixed rods (the only kind so far): the deck pose; a zero-length rod sits at its end A and
+        # takes its direction from end B
+        bx = R.rB0[k, 0] - R.rA0[k, 0]
+        by = R.rB0[k, 1] - R.rA0[k, 1]
+        bz = R.rB0[k, 2] - R.rA0[k, 2]
+        bn = math.sqrt(bx * bx + by * by + bz * bz)
+        for c in range(3):
+            rodr[k, 0, c] = R.rA0[k, c]
+            rodr[k, 1, c] = R.rB0[k, c] if R.N[k] > 0 else R.rA0[k, c]
+            rodv[k, 0, c] = 0.0
+            rodv[k, 1, c] = 0.0
+        if bn > 0.0:
+            W.rodq[k, 0] = bx / bn
+            W.rodq[k, 1] = by / bn
+            W.rodq[k, 2] = bz / bn
     nl = node_ptr.size - 1
     for li in range(nl):
         for j in range(2):
             n = node_ptr[li] if j == 0 else node_ptr[li + 1] - 1
-            if end_kind[li, j] == ATT_POINT:
+            kd = end_kind[li, j]
+            if kd == ATT_POINT:
                 p = end_idx[li, j]
                 for c in range(3):
                     r[n, c] = pr[p, c]
                     v[n, c] = pv[p, c]
+            else:
+                k = end_idx[li, j]
+                e = 0 if kd == ATT_ROD_A else 1
+                for c in range(3):
+                    r[n, c] = rodr[k, e, c]
+                    v[n, c] = rodv[k, e, c]
         for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
             o = 3 * node_row[n]
             for c in range(3):
@@ -106,7 +131,7 @@ def set_kinematics(t, y, L, P, Mo, W, piece):
                 v[n, c] = y[uoff + o + c]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def point_loads(P, E, W, cd_scale):
     """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
     pU = W.pU
@@ -136,7 +161,7 @@ def point_loads(P, E, W, cd_scale):
 
 
 @njit(cache=True, error_model="numpy")
-def rhs(t, y, dy, L, P, E, B, Mo, W, cd_scale, piece):
+def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
     Parameters
@@ -145,13 +170,18 @@ def rhs(t, y, dy, L, P, E, B, Mo, W, cd_scale, piece):
         Time [s].
     y, dy : ndarray (n_state,)
         State ``[q | u]`` and its derivative ``[u | a]``.
-    L, P, E, B, Mo, W : LineArrays, PointArrays, EnvArrays, Seabed, Motion, Work
+    L, R, P, E, B, Mo, W : LineArrays, RodArrays, PointArrays, EnvArrays, Seabed, Motion, Work
     cd_scale : float
         Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
     piece : int
         Piece of the coupled trajectory to evaluate (-1: the piece holding ``t``).
     """
-    set_kinematics(t, y, L, P, Mo, W, piece)
+    set_kinematics(t, y, L, R, P, Mo, W, piece)
+    rodF = W.rodF
+    for k in range(R.kind.size):
+        for e in range(2):
+            for c in range(3):
+                rodF[k, e, c] = 0.0
     pF = W.pF
     pM = W.pM
     pa = W.pa
@@ -181,6 +211,10 @@ def rhs(t, y, dy, L, P, E, B, Mo, W, cd_scale, piece):
                 for c in range(3):
                     pF[p, c] += F[n, c]
                 add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
+            else:
+                e = 0 if end_kind[li, j] == ATT_ROD_A else 1
+                for c in range(3):
+                    rodF[end_idx[li, j], e, c] += F[n, c]
     point_loads(P, E, W, cd_scale)
 
     nrow = y.size // 6

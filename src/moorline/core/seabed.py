@@ -50,8 +50,9 @@ def _locate(g, v):
 
 
 @njit(cache=True, error_model="numpy")
-def seabed_at(B, depth, x, y):
-    """Seabed height and unit normal at (x, y).
+def seabed_at(gx, gy, gz, depth, x, y):
+    """Seabed height and unit normal at (x, y) of the grid (gx, gy, gz) (flat at -depth when
+    ``gx`` is empty).
 
     Returns
     -------
@@ -60,11 +61,8 @@ def seabed_at(B, depth, x, y):
     outside : bool
         The point lies outside the grid (the nearest edge value was used).
     """
-    gx = B.gx
-    gy = B.gy
     if gx.size == 0:
         return -depth, 0.0, 0.0, 1.0, False
-    gz = B.gz
     outside = x < gx[0] or x > gx[gx.size - 1] or y < gy[0] or y > gy[gy.size - 1]
     i, tx = _locate(gx, x)
     j, ty = _locate(gy, y)
@@ -121,22 +119,15 @@ def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
 
 
 @njit(cache=True, error_model="numpy")
-def seabed_force(E, B, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
-    """Contact and friction force on line node ``n`` at (rx, ry, rz) moving at (vx, vy, vz) with
-    tangent q, diameter ``d`` and unstretched nodal length ``lam``. Returns (fx, fy, fz)."""
-    zb, nx, ny, nz, outside = seabed_at(B, E.depth, rx, ry)
-    if outside:
-        B.ctl[2] += 1
-    stick = E.fric == 2 and B.ctl[0] != 0
-    commit = stick and B.ctl[1] != 0
-    if rz >= zb:
-        if commit:
-            B.anchor[n, 0] = rx
-            B.anchor[n, 1] = ry
-            B.anchor[n, 2] = rz
-            B.slip[n, 0] = 0.0
-            B.slip[n, 1] = 0.0
-        return 0.0, 0.0, 0.0
+def seabed_force(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
+    """Contact and friction force on line node ``n`` at (rx, ry, rz), below the local seabed height
+    ``zb`` with unit normal n, moving at (vx, vy, vz) with tangent q, diameter ``d`` and unstretched
+    nodal length ``lam``; (anchor, slip, ctl) is the stick-slip state of
+    :class:`~moorline.core.layout.Seabed`. Returns (fx, fy, fz). Callers test for contact
+    themselves (and reset the anchors of nodes off the seabed), so that nodes in the water cost no
+    call."""
+    stick = E.fric == 2 and ctl[0] != 0
+    commit = stick and ctl[1] != 0
     area = d * lam
     if E.contact == CONTACT_NORMAL:
         vn = vx * nx + vy * ny + vz * nz
@@ -180,9 +171,9 @@ def seabed_force(E, B, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
         uy /= um
         uz /= um
     N = max(fn, 0.0)
-    dx = rx - B.anchor[n, 0]
-    dy = ry - B.anchor[n, 1]
-    dz = rz - B.anchor[n, 2]
+    dx = rx - anchor[n, 0]
+    dy = ry - anchor[n, 1]
+    dz = rz - anchor[n, 2]
     dn = dx * nx + dy * ny + dz * nz
     dx -= dn * nx
     dy -= dn * ny
@@ -191,7 +182,7 @@ def seabed_force(E, B, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     c = E.cshear * area
     da = dx * ux + dy * uy + dz * uz
     va = sx * ux + sy * uy + sz * uz
-    fa, da2, sa = _stick(k, c, E.muA, E.mc, N, da, va, B.slip[n, 0] != 0.0, commit)
+    fa, da2, sa = _stick(k, c, E.muA, E.mc, N, da, va, slip[n, 0] != 0.0, commit)
     # transverse: the in-plane remainder, as a vector along its own direction
     tx = dx - da * ux
     ty = dy - da * uy
@@ -215,12 +206,12 @@ def seabed_force(E, B, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
             ey = 0.0
             ez = 0.0
     vt = wx * ex + wy * ey + wz * ez
-    ft, tm2, st = _stick(k, c, E.muT, E.mc, N, tm, vt, B.slip[n, 1] != 0.0, commit)
+    ft, tm2, st = _stick(k, c, E.muT, E.mc, N, tm, vt, slip[n, 1] != 0.0, commit)
     if commit:
         # new anchor: the node minus the committed in-plane extensions (normal offset dropped)
-        B.anchor[n, 0] = rx - da2 * ux - tm2 * ex
-        B.anchor[n, 1] = ry - da2 * uy - tm2 * ey
-        B.anchor[n, 2] = rz - da2 * uz - tm2 * ez
-        B.slip[n, 0] = sa
-        B.slip[n, 1] = st
+        anchor[n, 0] = rx - da2 * ux - tm2 * ex
+        anchor[n, 1] = ry - da2 * uy - tm2 * ey
+        anchor[n, 2] = rz - da2 * uz - tm2 * ez
+        slip[n, 0] = sa
+        slip[n, 1] = st
     return bx + fa * ux + ft * ex, by + fa * uy + ft * ey, bz + fa * uz + ft * ez

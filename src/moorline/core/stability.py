@@ -18,17 +18,26 @@ from ..model import Model
 from .integrate import STABLE_OMEGA_DT, Scheme
 from .layout import P_FREE, Layout
 
+#: largest stable omega*dt for an UNDAMPED oscillation: RK4 is stable to 2.83; RK2 amplifies it by
+#: about (omega dt)^4 / 8 per step (spec 5.4), kept below 1e-6 per step; Euler always amplifies it
+UNDAMPED_OMEGA_DT = {Scheme.EULER: 0.0, Scheme.RK2: (8e-6) ** 0.25, Scheme.RK4: 2.8}
+
 
 @dataclass
 class Mode:
-    """A fast mode: where it is, what it is, and its rate [rad/s] (or decay rate [1/s])."""
+    """A fast mode: where it is, what it is, its rate [rad/s] (or decay rate [1/s]), and whether
+    anything damps it (bending modes have no damping in the lumped-mass formulation)."""
 
     where: str
     kind: str
     rate: float
+    damped: bool = True
 
     def dt_limit(self, scheme: Scheme) -> float:
-        return STABLE_OMEGA_DT[scheme] / self.rate if self.rate > 0 else math.inf
+        limit = STABLE_OMEGA_DT[scheme] if self.damped else UNDAMPED_OMEGA_DT[scheme]
+        if self.rate <= 0:
+            return math.inf
+        return limit / self.rate if limit > 0 else 0.0
 
 
 def segment_period(model: Model, layout: Layout, li: int) -> float:
@@ -63,6 +72,9 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
         l0 = layout.line_L[li] / layout.line_N[li]
         name = f"line {li + 1}"
         modes.append(Mode(name, "axial segment mode", 2.0 / l0 * math.sqrt(lt.EA_max / lt.w)))
+        if lt.has_bending:
+            modes.append(Mode(name, "highest bending mode (undamped)", 4.0 / l0**2 * math.sqrt(lt.EI_max / lt.w),
+                              damped=False))
         BA = float(L.seg_BA[L.seg_ptr[li]])
         if BA > 0:
             zeta = BA / (l0 * math.sqrt(lt.EA_ref * lt.w))
@@ -103,10 +115,15 @@ def stability_report(model: Model, layout: Layout, dtM: float, scheme: Scheme,
                      on_seabed: np.ndarray | None = None) -> tuple[Mode, float, str]:
     """The governing mode, the largest stable dtM [s] for ``scheme``, and a one-line report."""
     modes = fast_modes(model, layout, on_seabed)
-    gov = max(modes, key=lambda m: m.rate)
+    gov = min(modes, key=lambda m: m.dt_limit(scheme))
     limit = gov.dt_limit(scheme)
     ratio = gov.rate * dtM
-    text = (f"dtM = {dtM:.4g} s ({scheme.name}); fastest mode: {gov.where}, {gov.kind}, "
-            f"rate {gov.rate:.4g} 1/s, rate*dtM = {ratio:.3g} (stable up to about "
-            f"{STABLE_OMEGA_DT[scheme]:.3g}, i.e. dtM <= {limit:.3g} s)")
+    bound = STABLE_OMEGA_DT[scheme] if gov.damped else UNDAMPED_OMEGA_DT[scheme]
+    if limit > 0:
+        text = (f"dtM = {dtM:.4g} s ({scheme.name}); governing mode: {gov.where}, {gov.kind}, "
+                f"rate {gov.rate:.4g} 1/s, rate*dtM = {ratio:.3g} (stable up to about {bound:.3g}, i.e. "
+                f"dtM <= {limit:.3g} s)")
+    else:
+        text = (f"dtM = {dtM:.4g} s ({scheme.name}); governing mode: {gov.where}, {gov.kind}, rate "
+                f"{gov.rate:.4g} 1/s: {scheme.name} amplifies undamped modes at any dtM; use RK4")
     return gov, limit, text

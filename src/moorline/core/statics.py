@@ -11,7 +11,7 @@ from numba import njit
 
 from .catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
 from .integrate import advance
-from .layout import ATT_POINT, P_COUPLED, P_FREE, Layout
+from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FREE, Layout
 from .rhs import rhs
 from .seabed import seabed_at
 
@@ -19,16 +19,19 @@ from .seabed import seabed_at
 def end_points(layout: Layout, x_coupled: np.ndarray, li: int) -> tuple[np.ndarray, np.ndarray]:
     """Initial positions of the two ends of line ``li`` with coupled points at ``x_coupled``."""
     P = layout.points
+    R = layout.rods
     out = []
     for j in range(2):
-        if layout.lines.end_kind[li, j] != ATT_POINT:
-            raise NotImplementedError("only point attachments are supported")
-        p = int(layout.lines.end_idx[li, j])
-        if P.kind[p] == P_COUPLED:
-            o = int(P.cpl[p])
+        kind = layout.lines.end_kind[li, j]
+        k = int(layout.lines.end_idx[li, j])
+        if kind != ATT_POINT:
+            # fixed rods: end A, or end B unless the rod has zero length
+            out.append(R.rA0[k].copy() if kind == ATT_ROD_A or R.N[k] == 0 else R.rB0[k].copy())
+        elif P.kind[k] == P_COUPLED:
+            o = int(P.cpl[k])
             out.append(np.asarray(x_coupled[o:o + 3], dtype=float))
         else:
-            out.append(P.r0[p].copy())
+            out.append(P.r0[k].copy())
     return out[0], out[1]
 
 
@@ -48,7 +51,7 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, cat_tol
         out = np.zeros((N + 1, 3))
         Wl = (L.w[li] - E.rho * L.A[li]) * E.g
         # a seabed at the lower end's level, if an end lies on (or below) the local seabed
-        seabed = any(r[2] <= seabed_at(B, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB))
+        seabed = any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB))
         EA = float(L.seg_EA[L.seg_ptr[li]])
         status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
         if status not in (STATUS_OK, STATUS_SHORT_SPAN):
@@ -56,7 +59,7 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, cat_tol
         # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
         # on a slope starts on it, not through it)
         for j in range(1, N):
-            zb = seabed_at(B, E.depth, out[j, 0], out[j, 1])[0]
+            zb = seabed_at(B.gx, B.gy, B.gz, E.depth, out[j, 0], out[j, 1])[0]
             if out[j, 2] < zb:
                 out[j, 2] = zb
         for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
@@ -82,7 +85,7 @@ def _accel_norm_sum(dy):
 
 
 @njit(cache=True, error_model="numpy")
-def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, B, Mo, W, S):
+def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E, B, Mo, W, S):
     """MoorDyn's stationary initial-condition solver (spec 6.3): pseudo-time steps along the
     accelerations with all velocities held at zero.
 
@@ -114,7 +117,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, B
     next_check = dtIC
     it = 0
     while True:
-        rhs(0.0, y, dy, L, P, E, B, Mo, W, 1.0, -1)
+        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, 1.0, -1)
         e = _accel_norm_sum(dy)
         if e0 < 0.0:
             e0 = e
@@ -122,7 +125,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, P, E, B
             b /= 1.01
             for i in range(uoff):
                 y[i] = 0.5 * (y[i] + qprev[i])
-            rhs(0.0, y, dy, L, P, E, B, Mo, W, 1.0, -1)
+            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, 1.0, -1)
             e = _accel_norm_sum(dy)
         else:
             b *= 1.01
@@ -162,7 +165,7 @@ def _fairlead_tensions(L, W, out):
 
 
 @njit(cache=True, error_model="numpy")
-def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E, B, Mo, W, S, vmax):
+def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, S, vmax):
     """MoorDyn's legacy initial-condition solver (spec 6.4): integrate with drag scaled by
     ``cd_scale`` until the end-B tension of every line changes by less than ``threshIC``
     (relative) over ten samples ``dtIC/10`` apart.
@@ -177,10 +180,10 @@ def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, P, E
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, P, E, B, Mo, W, cd_scale, S, vmax, False)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, R, P, E, B, Mo, W, cd_scale, S, vmax, False)
         if bad >= 0:
             return False, t, bad
-        rhs(t, y, S[0], L, P, E, B, Mo, W, cd_scale, -1)
+        rhs(t, y, S[0], L, R, P, E, B, Mo, W, cd_scale, -1)
         _fairlead_tensions(L, W, ten)
         for k in range(nwin - 1):
             for li in range(nl):

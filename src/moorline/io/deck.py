@@ -42,6 +42,9 @@ from ..model import (
     ModelError,
     Point,
     PointKind,
+    Rod,
+    RodKind,
+    RodType,
 )
 from .lexer import Row, Section, lex, parse_number, parse_whole, split_lines, tokenize
 
@@ -51,9 +54,7 @@ log = logging.getLogger("moorline.io")
 CURVE_MAX_POINTS = 30
 
 _UNSUPPORTED = {
-    "ROD TYPES": "rods, bodies and cables come with the cable work",
-    "RODS": "rods, bodies and cables come with the cable work",
-    "BODIES": "rods, bodies and cables come with the cable work",
+    "BODIES": "6-DOF bodies are not implemented yet",
     "SYROPE IC": "the Syrope rope model is not implemented",
     "FAILURE": "line failures are not implemented",
 }
@@ -185,9 +186,41 @@ def _attachment(tok, rd):
         return Attachment("point", n - 1)
     m = _ROD_REF.fullmatch(up)
     if m:
-        raise _Bad(f"{tok!r}: rods are not supported yet (line ends on rods come with the cable work)",
-                   plain=True)
+        n = int(m.group(1))
+        if not m.group(2):
+            raise _Bad(f"a rod end with its letter, e.g. R{n}A or R{n}B (the end letter is mandatory for rods)")
+        if not 1 <= n <= rd.n_rods:
+            raise _Bad(f"a rod end of a rod from 1 to {rd.n_rods} (there is no rod {n}; the deck has "
+                       f"{rd.n_rods} rods)")
+        return Attachment("rod", n - 1, m.group(2))
     raise _Bad("a point (n, Pn, POINTn, Cn, CONn) or a rod end (RnA, RnB, RODnA, RODnB)")
+
+
+_ROD_WORDS = {
+    "ANCHOR": RodKind.FIXED, "FIXED": RodKind.FIXED, "FIX": RodKind.FIXED,
+    "PINNED": RodKind.PINNED, "PIN": RodKind.PINNED,
+    "VESSEL": RodKind.COUPLED, "VES": RodKind.COUPLED, "COUPLED": RodKind.COUPLED, "CPLD": RodKind.COUPLED,
+    "VESSELPINNED": RodKind.COUPLED_PINNED, "VESPIN": RodKind.COUPLED_PINNED, "CPLDPIN": RodKind.COUPLED_PINNED,
+    "COUPLEDPINNED": RodKind.COUPLED_PINNED,
+    "POINT": RodKind.FREE, "CON": RodKind.FREE, "FREE": RodKind.FREE,
+}
+
+
+def _rod_kind(tok, rd=None):
+    up = tok.upper()
+    if up in _ROD_WORDS:
+        return _ROD_WORDS[up]
+    if re.fullmatch(r"BODY\d+(PINNED|PIN)?", up):
+        raise _Bad(f"{tok!r}: rods on bodies need bodies, which are not implemented yet", plain=True)
+    raise _Bad("a rod attachment word (Fixed/Anchor, Pinned, Body<n>, Body<n>Pinned, Coupled/Vessel, "
+               "CoupledPinned/VesPin, Free/Point)")
+
+
+def _segs0(tok, rd=None):
+    v = parse_whole(tok)
+    if v is None or v < 0:
+        raise _Bad("a whole number >= 0")
+    return v
 
 
 def _is_attachment(tok: str, n_points: int) -> bool:
@@ -246,6 +279,15 @@ _POINT_FORCE = (_c("FX", "(N)", _any), _c("FY", "(N)", _any), _c("FZ", "(N)", _a
 _POINT_TAIL = (_c("CdA", "(m^2)", _nonneg), _c("Ca", "(-)", _nonneg))
 POINT_COLUMNS = _POINT_HEAD + _POINT_TAIL
 POINT_COLUMNS_F = _POINT_HEAD + _POINT_FORCE + _POINT_TAIL
+ROD_TYPE_COLUMNS = (
+    _c("TypeName", "(name)", _word, "name"), _c("Diam", "(m)", _pos, "d"), _c("Mass/m", "(kg/m)", _nonneg, "w"),
+    _c("Cd", "(-)", _nonneg), _c("Ca", "(-)", _nonneg), _c("CdEnd", "(-)", _nonneg), _c("CaEnd", "(-)", _nonneg),
+)
+ROD_COLUMNS = (
+    _c("ID", "(#)", _whole), _c("RodType", "(name)", _word, "rod_type"), _c("Attachment", "(#/key)", _rod_kind, "kind"),
+    _c("Xa", "(m)", _any), _c("Ya", "(m)", _any), _c("Za", "(m)", _any), _c("Xb", "(m)", _any), _c("Yb", "(m)", _any),
+    _c("Zb", "(m)", _any), _c("NumSegs", "(-)", _segs0, "N"), _c("RodOutputs", "(-)", _flags, "outputs"),
+)
 LINE_COLUMNS = (
     _c("ID", "(#)", _whole), _c("LineType", "(name)", _word, "line_type"),
     _c("AttachA", "(#)", _attachment, "end_a"), _c("AttachB", "(#)", _attachment, "end_b"),
@@ -370,6 +412,9 @@ class _Reader:
         self.n_points = 0
         self.v1_types = False
         self.type_rows: dict[str, Row] = {}
+        self.rod_type_rows: dict[str, Row] = {}
+        self.rod_rows: list[Row] = []
+        self.n_rods = 0
         self.point_rows: list[Row] = []
         self.line_rows: list[Row] = []
         self.option_rows: dict[str, Row] = {}
@@ -489,6 +534,32 @@ class _Reader:
                             row.line, name)
             self.model.line_types[name] = LineType(name, **f)
             self.type_rows[name] = row
+
+    def read_rod_types(self):
+        sec = self.sections.get("ROD TYPES")
+        for row in sec.rows if sec is not None else []:
+            self.check_count("ROD TYPES", row, ROD_TYPE_COLUMNS, "7 (Name Diam Mass/m Cd Ca CdEnd CaEnd)")
+            f = self.read_fields("ROD TYPES", row, ROD_TYPE_COLUMNS)
+            name = f.pop("name")
+            self.model.rod_types[name] = RodType(name, **f)
+            self.rod_type_rows[name] = row
+
+    def read_rods(self):
+        sec = self.sections.get("RODS")
+        for k, row in enumerate(sec.rows if sec is not None else [], 1):
+            self.check_count("RODS", row, ROD_COLUMNS, "11 (ID RodType Attachment Xa Ya Za Xb Yb Zb NumSegs "
+                             "RodOutputs)")
+            f = self.read_fields("RODS", row, ROD_COLUMNS)
+            self.check_id("RODS", row, f.pop("ID"), k)
+            if f["rod_type"] not in self.model.rod_types:
+                known = ", ".join(repr(t) for t in self.model.rod_types) or "none defined"
+                raise self.error(f"field 'RodType' of RODS: expected a rod type name from ROD TYPES ({known}), got "
+                                 f"{f['rod_type']!r}", row, "RodType")
+            rA = (f.pop("Xa"), f.pop("Ya"), f.pop("Za"))
+            rB = (f.pop("Xb"), f.pop("Yb"), f.pop("Zb"))
+            self.model.rods.append(Rod(rA=rA, rB=rB, **f))
+            self.rod_rows.append(row)
+        self.n_rods = len(self.model.rods)
 
     def read_points(self):
         sec = self.sections.get("POINTS")
@@ -638,7 +709,11 @@ class _Reader:
         m = re.match(r"line type '([^']*)'", msg)
         if m:
             return self.type_rows.get(m.group(1))
-        for pattern, rows in ((r"line (\d+)", self.line_rows), (r"point (\d+)", self.point_rows)):
+        m = re.match(r"rod type '([^']*)'", msg)
+        if m:
+            return self.rod_type_rows.get(m.group(1))
+        for pattern, rows in ((r"line (\d+)", self.line_rows), (r"point (\d+)", self.point_rows),
+                              (r"rod (\d+)", self.rod_rows)):
             m = re.match(pattern, msg)
             if m and 1 <= int(m.group(1)) <= len(rows):
                 return rows[int(m.group(1)) - 1]
@@ -675,6 +750,8 @@ def read_deck_text(text: str, path=None, base_dir=None) -> Model:
     rd.collect(lex(text, file=rd.file))
     rd.read_options()
     rd.read_line_types()
+    rd.read_rod_types()
+    rd.read_rods()
     rd.read_points()
     rd.read_lines()
     rd.read_outputs()

@@ -2,19 +2,22 @@
 
 from .system import Model
 from .types import (
-           CONTACT_MODES,
-           FRICTION_MODELS,
-           Attachment,
-           Bathymetry,
-           Curve,
-           Environment,
-           Line,
-           LineType,
-           ModelError,
-           Options,
-           Point,
-           PointKind,
+    CONTACT_MODES,
+    FRICTION_MODELS,
+    Attachment,
+    Bathymetry,
+    Curve,
+    Environment,
+    Line,
+    LineType,
+    ModelError,
+    Options,
+    Point,
+    PointKind,
+    Rod,
+    RodKind,
+    RodType,
 )
 
 __all__ = ["CONTACT_MODES", "FRICTION_MODELS", "Attachment", "Bathymetry", "Curve", "Environment", "Line",
-           "LineType", "Model", "ModelError", "Options", "Point", "PointKind"]
+           "LineType", "Model", "ModelError", "Options", "Point", "PointKind", "Rod", "RodKind", "RodType"]

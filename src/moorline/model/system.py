@@ -18,7 +18,20 @@ from pathlib import Path
 
 import numpy as np
 
-from .types import Attachment, Curve, Environment, Line, LineType, ModelError, Options, Point, PointKind
+from .types import (
+    Attachment,
+    Curve,
+    Environment,
+    Line,
+    LineType,
+    ModelError,
+    Options,
+    Point,
+    PointKind,
+    Rod,
+    RodKind,
+    RodType,
+)
 
 _KIND_WORDS = {
     "fixed": PointKind.FIXED,
@@ -36,6 +49,8 @@ class Model:
     """Line types, points and lines, with the environment, options and output channels."""
 
     line_types: dict[str, LineType] = field(default_factory=dict)
+    rod_types: dict[str, RodType] = field(default_factory=dict)
+    rods: list[Rod] = field(default_factory=list)
     points: list[Point] = field(default_factory=list)
     lines: list[Line] = field(default_factory=list)
     env: Environment = field(default_factory=Environment)
@@ -53,6 +68,25 @@ class Model:
                       float(Cd), float(Ca), float(CdAx), float(CaAx), float(Cl), float(dF), float(cF))
         self.line_types[name] = lt
         return lt
+
+    def add_rod_type(self, name: str, *, d: float, w: float, Cd=0.0, Ca=0.0, CdEnd=0.0, CaEnd=0.0) -> RodType:
+        """Add (or replace) a rod type; see :class:`RodType`."""
+        rt = RodType(name, float(d), float(w), float(Cd), float(Ca), float(CdEnd), float(CaEnd))
+        self.rod_types[name] = rt
+        return rt
+
+    def add_rod(self, rod_type: str, kind, rA, rB, *, N: int, outputs: str = "") -> tuple[Attachment, Attachment]:
+        """Add a rod and return the attachments of its ends A and B (lines attached to a rod end
+        with bending stiffness are clamped to the rod's direction)."""
+        if isinstance(kind, str):
+            words = {"fixed": RodKind.FIXED, "anchor": RodKind.FIXED}
+            try:
+                kind = words[kind.lower()]
+            except KeyError:
+                raise ModelError(f"unknown or unsupported rod kind {kind!r}; fixed rods are supported") from None
+        self.rods.append(Rod(rod_type, RodKind(kind), rA, rB, int(N), outputs))
+        k = len(self.rods) - 1
+        return Attachment("rod", k, "A"), Attachment("rod", k, "B")
 
     def add_point(self, kind, r, *, m=0.0, V=0.0, CdA=0.0, Ca=0.0, F_ext=(0.0, 0.0, 0.0)) -> Attachment:
         """Add a point and return the :class:`Attachment` that lines use to refer to it.
@@ -80,7 +114,8 @@ class Model:
         """Initial position [m] of an attachment."""
         if att.kind == "point":
             return self.points[att.index].r.copy()
-        raise ModelError(f"attachment {att} is not supported by this version (rods come with cables)")
+        rod = self.rods[att.index]
+        return (rod.rA if att.end == "A" else rod.rB).copy()
 
     @property
     def coupled_points(self) -> list[int]:
@@ -114,13 +149,27 @@ class Model:
             if ln.L == 0:
                 raise ModelError(f"line {k}: unstretched length must not be zero")
             for end, att in (("A", ln.end_a), ("B", ln.end_b)):
-                if att.kind != "point":
-                    raise ModelError(f"line {k} end {end}: attachment {att} is not supported by this version")
-                if not 0 <= att.index < len(self.points):
+                if att.kind == "point" and not 0 <= att.index < len(self.points):
                     raise ModelError(f"line {k} end {end}: no point {att.index + 1}")
+                if att.kind == "rod" and (not 0 <= att.index < len(self.rods) or att.end not in ("A", "B")):
+                    raise ModelError(f"line {k} end {end}: no rod end {att}")
+                if att.kind not in ("point", "rod"):
+                    raise ModelError(f"line {k} end {end}: unknown attachment {att}")
             if ln.end_a == ln.end_b:
                 raise ModelError(f"line {k}: both ends attached to {ln.end_a}")
-        attached = {a.index for ln in self.lines for a in (ln.end_a, ln.end_b)}
+        for k, rod in enumerate(self.rods, 1):
+            if rod.rod_type not in self.rod_types:
+                raise ModelError(f"rod {k}: unknown rod type {rod.rod_type!r}")
+            if rod.kind != RodKind.FIXED:
+                raise ModelError(f"rod {k}: {rod.kind.name.lower()} rods are not supported yet (fixed rods are)")
+            if rod.N < 0:
+                raise ModelError(f"rod {k}: number of segments must be >= 0, got {rod.N}")
+            if rod.N > 0 and rod.length == 0:
+                raise ModelError(f"rod {k}: ends A and B coincide but NumSegs = {rod.N}")
+        for name, rt in self.rod_types.items():
+            if rt.d <= 0 or rt.w < 0:
+                raise ModelError(f"rod type {name!r}: diameter must be > 0 and mass per length >= 0")
+        attached = {a.index for ln in self.lines for a in (ln.end_a, ln.end_b) if a.kind == "point"}
         for i, p in enumerate(self.points):
             if p.kind == PointKind.BODY:
                 raise ModelError(f"point {i + 1}: body-attached points need bodies (not supported yet)")

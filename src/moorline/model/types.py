@@ -108,6 +108,16 @@ class LineType:
         return float(self.EA)
 
     @property
+    def EI_max(self) -> float:
+        """Largest bending stiffness [N m^2]: EI, or the steepest slope of the moment-curvature table."""
+        if isinstance(self.EI, Curve):
+            c = self.EI
+            slopes = np.diff(c.y) / np.diff(c.x)
+            first = c.y[0] / c.x[0] if c.x[0] > 0 else 0.0
+            return float(max(np.max(slopes), first))
+        return float(self.EI)
+
+    @property
     def has_bending(self) -> bool:
         return isinstance(self.EI, Curve) or float(self.EI) > 0.0
 
@@ -157,6 +167,86 @@ class Point:
         self.kind = PointKind(self.kind)
         self.r = np.asarray(self.r, dtype=float).reshape(3)
         self.F_ext = np.asarray(self.F_ext, dtype=float).reshape(3)
+
+
+@dataclass
+class RodType:
+    """Cross-section properties of a rod (one row of ROD TYPES).
+
+    Parameters
+    ----------
+    name : str
+    d : float
+        Diameter [m].
+    w : float
+        Mass per unit length [kg/m].
+    Cd, Ca : float
+        Transverse drag and added-mass coefficients [-].
+    CdEnd, CaEnd : float
+        Axial drag and added-mass coefficients applied at each submerged end [-].
+    """
+
+    name: str
+    d: float
+    w: float
+    Cd: float = 0.0
+    Ca: float = 0.0
+    CdEnd: float = 0.0
+    CaEnd: float = 0.0
+
+
+class RodKind(IntEnum):
+    """How a rod moves (MoorDyn's rod attachment words)."""
+
+    FIXED = 0
+    PINNED = 1
+    BODY = 2
+    BODY_PINNED = 3
+    COUPLED = 4
+    COUPLED_PINNED = 5
+    FREE = 6
+
+
+@dataclass
+class Rod:
+    """A rigid cylinder from end A to end B (one row of RODS).
+
+    Parameters
+    ----------
+    rod_type : str
+    kind : RodKind
+    rA, rB : array_like (3,)
+        End positions [m] (global frame; body frame for rods on bodies).
+    N : int
+        Number of segments (0: a zero-length rod joining cables).
+    outputs : str
+        MoorDyn rod output flags.
+    body : int or None
+        Index of the parent body.
+    """
+
+    rod_type: str
+    kind: RodKind
+    rA: np.ndarray
+    rB: np.ndarray
+    N: int
+    outputs: str = ""
+    body: int | None = None
+
+    def __post_init__(self):
+        self.kind = RodKind(self.kind)
+        self.rA = np.asarray(self.rA, dtype=float).reshape(3)
+        self.rB = np.asarray(self.rB, dtype=float).reshape(3)
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(self.rB - self.rA))
+
+    @property
+    def axis(self) -> np.ndarray:
+        """Unit vector from end A to end B (zero for a zero-length rod)."""
+        L = self.length
+        return (self.rB - self.rA) / L if L > 0 else np.zeros(3)
 
 
 @dataclass(frozen=True)
