@@ -182,10 +182,10 @@ def main(argv=None) -> int:
             wall = statistics.median(times)
             nsteps = duration / s.dtM
             label = "moorline step()" if mode == "step" else "moorline advance_to()"
-            print(f"{name:<26}{nodes:>6} {s.scheme.name:>6} {s.dtM:>9.3g} {duration:>6g} {label:>22} {wall:>8.3f} "
+            print(f"{name:<26}{nodes:>6} {s.scheme_label:>6} {s.dtM:>9.3g} {duration:>6g} {label:>22} {wall:>8.3f} "
                   f"{duration / wall:>7.1f} {nodes * nsteps / wall:>13.3g} {wall / md_wall:>6.2f}")
         if have_md:
-            print(f"{name:<26}{nodes_md:>6} {s.scheme.name:>6} {s.dtM:>9.3g} {duration:>6g} {'MoorDyn Step()':>22} "
+            print(f"{name:<26}{nodes_md:>6} {s.scheme_label:>6} {s.dtM:>9.3g} {duration:>6g} {'MoorDyn Step()':>22} "
                   f"{md_wall:>8.3f} {duration / md_wall:>7.1f} {nodes_md * nsteps / md_wall:>13.3g} {1.0:>6.2f}")
             rel = np.max(np.abs(f - f_md)) / max(np.max(np.abs(f_md)), 1e-300) if f.size else 0.0
             print(f"{'':<26}final coupled force: max relative difference moorline/MoorDyn {rel:.2e}")

@@ -96,7 +96,7 @@ def cmd_run(args) -> int:
     ic = system.ic_report
     print(f"moorline {__version__}: {args.deck}")
     print(f"  {len(system.lines)} lines, {len(system.points)} points, {system.layout.n_rows} free 3-DOF rows, "
-          f"{system.n_coupled_dof} coupled DOF; {system.scheme.name}, dtM = {system.dtM:.4g} s")
+          f"{system.n_coupled_dof} coupled DOF; {system.scheme_label}, dtM = {system.dtM:.4g} s")
     if ic.get("method"):
         state = "converged" if ic.get("converged") else ("stalled" if ic.get("stalled") else "NOT converged")
         print(f"  initial conditions: {ic['method']}, {state} after {ic['pseudo_time']:.4g} s pseudo time")
@@ -144,7 +144,7 @@ def cmd_check(args) -> int:
           f"{system.n_coupled_dof} coupled DOF ({', '.join(system.coupled_dof_labels) or 'none'})")
     from .core.stability import stability_report
 
-    _, limit, text = stability_report(m, system.layout, system.dtM, system.scheme)
+    _, limit, text = stability_report(m, system.layout, system.dtM, system.scheme, label=system.scheme_label)
     print(f"  {text}")
     for key, val in m.options.not_acted_on.items():
         print(f"  option {key} = {val}: read but not acted on by this version")
@@ -161,7 +161,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("deck", help="MoorDyn v2 input file")
         p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
         p.add_argument("--dtM", type=float, help="override the internal time step [s]")
-        p.add_argument("--scheme", help="override the time scheme (Euler, RK2, RK4)")
+        p.add_argument("--scheme", help="override the time scheme (Euler, RK2, RK4, BEuler<M>, Midpoint<M>)")
 
     p = sub.add_parser("run", help="simulate a deck with an imposed coupled motion")
     common(p)

@@ -180,7 +180,7 @@ class System:
     dtM : float, optional
         Internal time step [s]; default from the model options (``dtM`` or ``CFL``).
     scheme : str, optional
-        Time scheme name (Euler, RK2, RK4); default the model's ``tScheme``.
+        Time scheme name (Euler, RK2, RK4, BEuler<M>, Midpoint<M>); default the model's ``tScheme``.
     loads_at : {'end', 'last_stage'}
         What loads (tensions, forces, curvatures) the views report after a step. ``'end'``
         (default): evaluated at the state and time at the end of the step, consistent with the
@@ -199,7 +199,8 @@ class System:
         self.loads_at = loads_at
         self.model = model
         self.layout = build_layout(model)
-        self.scheme = parse_scheme(scheme if scheme is not None else model.options.tScheme)
+        self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
+            scheme if scheme is not None else model.options.tScheme)
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
         if not self.dtM > 0:
             raise ValueError(f"dtM must be > 0, got {self.dtM}")
@@ -305,6 +306,7 @@ class System:
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
+        self._S[...] = 0.0  # the implicit schemes start without a previous derivative
         self._evaluate()
         # friction springs start relaxed at the initial position of every node
         B.anchor[...] = self.work.r
@@ -328,9 +330,9 @@ class System:
         L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
                             self.layout.seabed, self.work)
         if opts.ICgenDynamic:
-            ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), opts.dtIC, opts.TmaxIC,
-                                              opts.threshIC, opts.CdScaleIC, L, R, P, E, B, self._motion, W,
-                                              self._S, MAX_NODE_SPEED)
+            ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), self.scheme_params, opts.dtIC,
+                                              opts.TmaxIC, opts.threshIC, opts.CdScaleIC, L, R, P, E, B,
+                                              self._motion, W, self._S, MAX_NODE_SPEED)
             if bad >= 0:
                 raise self._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
             self.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))
@@ -362,7 +364,8 @@ class System:
         L = self.layout.lines
         fbed = np.any(self.work.Fbed != 0.0, axis=1)
         on_bed = np.array([np.any(fbed[L.node_ptr[i]:L.node_ptr[i + 1]]) for i in range(len(self.lines))])
-        gov, limit, text = stability_report(self.model, self.layout, self.dtM, self.scheme, on_bed)
+        gov, limit, text = stability_report(self.model, self.layout, self.dtM, self.scheme, on_bed,
+                                            self.scheme_label)
         self.stability = {"governing": gov.where, "mode": gov.kind, "rate": gov.rate,
                           "dtM_limit": limit, "text": text}
         if self.dtM > limit:
@@ -405,8 +408,8 @@ class System:
         L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
                             self.layout.seabed, self.work)
         last_stage = self.loads_at == "last_stage"
-        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), L, R, P, E, B, motion, W, 1.0,
-                                   self._S, MAX_NODE_SPEED, not last_stage)
+        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P,
+                                   E, B, motion, W, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
@@ -455,6 +458,7 @@ class System:
                 if P.kind[p] == P_FREE:
                     row = int(P.row[p])
                     self.y[off + 3 * row: off + 3 * row + 3] = arr[p]
+        self._S[...] = 0.0
         if self.initialized:
             self._evaluate()
 
@@ -463,12 +467,12 @@ class System:
         nr = self.layout.n_rows
         v = self.y[3 * nr + 3 * row: 3 * nr + 3 * row + 3]
         speed = float(np.linalg.norm(v)) if np.all(np.isfinite(v)) else math.nan
-        _, limit, _ = stability_report(self.model, self.layout, self.dtM, self.scheme)
+        _, limit, _ = stability_report(self.model, self.layout, self.dtM, self.scheme, label=self.scheme_label)
         suggest = min(0.5 * self.dtM, 0.8 * limit)
         where = f"line {num} node {node}" if what == "line" else f"point {num}"
         reason = "non-finite state" if not math.isfinite(speed) else f"speed {speed:.3g} m/s > {MAX_NODE_SPEED} m/s"
         msg = (f"simulation unstable at t = {t:.6g} s {context}: {where}: {reason}. "
-               f"dtM = {self.dtM:.4g} s with {self.scheme.name}; try dtM <= {suggest:.3g} s")
+               f"dtM = {self.dtM:.4g} s with {self.scheme_label}; try dtM <= {suggest:.3g} s")
         return SimulationError(msg, time=t, line=num if what == "line" else None,
                                node=node if what == "line" else None, point=num if what == "point" else None,
                                suggested_dtM=suggest)

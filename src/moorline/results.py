@@ -125,7 +125,7 @@ class Recorder:
             "moorline_version": __version__,
             "input_sha256": model_hash(s.model),
             "source": str(s.model.source) if s.model.source else "",
-            "time_scheme": s.scheme.name,
+            "time_scheme": s.scheme_label,
             "dtM": s.dtM,
             "options": json.dumps(opts, default=str),
             "environment": json.dumps(asdict(s.model.env)),

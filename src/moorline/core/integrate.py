@@ -9,6 +9,7 @@ floor(dt/dtM) full steps and one shorter remainder, exactly as MoorDyn does).
 from __future__ import annotations
 
 import logging
+import math
 from enum import IntEnum
 
 import numpy as np
@@ -23,37 +24,55 @@ class Scheme(IntEnum):
     EULER = 0
     RK2 = 1
     RK4 = 2
+    IMPLICIT = 3  # MoorDyn's BEuler<M> / Midpoint<M>: M relaxed fixed-point iterations
 
 
 #: largest stable omega*dt of the highest axial segment mode for damping ratio ~0.5-1
-#: (spec 5.4, linear analysis of a taut chain); used by the time-step report
-STABLE_OMEGA_DT = {Scheme.EULER: 1.0, Scheme.RK2: 2.0, Scheme.RK4: 2.6}
-
-#: how many derivative evaluations one step costs
-EVALS_PER_STEP = {Scheme.EULER: 1, Scheme.RK2: 2, Scheme.RK4: 4}
+#: (spec 5.4, linear analysis of a taut chain); used by the time-step report. The relaxed
+#: fixed-point iterations of the "implicit" schemes are explicit in effect: RK2's value is used.
+STABLE_OMEGA_DT = {Scheme.EULER: 1.0, Scheme.RK2: 2.0, Scheme.RK4: 2.6, Scheme.IMPLICIT: 2.0}
 
 _MOORDYN_NAMES = ("LEULER", "HEUN", "AB2", "AB3", "AB4", "LAB2", "LAB3", "LAB4")
-_MOORDYN_PREFIXES = ("BEULER", "MIDPOINT", "ACA", "WILSON")
+_MOORDYN_PREFIXES = ("ACA", "WILSON")
 
 
-def parse_scheme(name: str) -> Scheme:
-    """Map a MoorDyn ``tScheme`` name to a :class:`Scheme`.
+def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
+    """Map a MoorDyn ``tScheme`` name to a :class:`Scheme`, its parameters and a label.
 
-    Euler, RK2 and RK4 are implemented. MoorDyn names that moorline does not implement yet, and
-    unknown names, fall back to RK2 as MoorDyn does for unknown names, with a warning.
+    Euler, RK2, RK4, and MoorDyn's ``BEuler<M>`` and ``Midpoint<M>`` (M fixed-point iterations,
+    evaluated at t + c dt with c = 1 or 1/2, relaxed as MoorDyn does) are implemented. Other MoorDyn
+    names, and unknown names, fall back to RK2 as MoorDyn does for unknown names, with a warning.
+
+    Returns
+    -------
+    scheme : Scheme
+    params : ndarray (4,)
+        [c, M, c0, c1] of the implicit schemes (unused by the others).
+    label : str
     """
     key = str(name).strip().upper()
+    params = np.array([1.0, 1.0, 0.9, 0.0])
     if key in ("EULER", "RK1"):
-        return Scheme.EULER
+        return Scheme.EULER, params, "Euler"
     if key == "RK2":
-        return Scheme.RK2
+        return Scheme.RK2, params, "RK2"
     if key == "RK4":
-        return Scheme.RK4
+        return Scheme.RK4, params, "RK4"
+    for prefix, c, label in (("BEULER", 1.0, "BEuler"), ("MIDPOINT", 0.5, "Midpoint")):
+        if key.startswith(prefix):
+            rest = key[len(prefix):]
+            if not rest.isdigit() or int(rest) < 1:
+                raise ValueError(f"time scheme {name!r}: expected {label}<M> with M >= 1 iterations, e.g. "
+                                 f"{label}5")
+            params[0] = c
+            params[1] = int(rest)
+            return Scheme.IMPLICIT, params, f"{label}{int(rest)}"
     if key in _MOORDYN_NAMES or key.startswith(_MOORDYN_PREFIXES):
         log.warning("time scheme %r is a MoorDyn scheme that moorline does not implement yet; using RK2", name)
     else:
-        log.warning("unknown time scheme %r (expected Euler, RK2 or RK4); using RK2 as MoorDyn does", name)
-    return Scheme.RK2
+        log.warning("unknown time scheme %r (expected Euler, RK2, RK4, BEuler<M> or Midpoint<M>); using RK2 "
+                    "as MoorDyn does", name)
+    return Scheme.RK2, params, "RK2"
 
 
 @njit(cache=True, error_model="numpy")
@@ -63,8 +82,13 @@ def _axpy(out, y, h, k):
 
 
 @njit(cache=True, error_model="numpy")
-def step(y, t, h, scheme, L, R, P, E, B, Mo, W, cd_scale, S, piece):
-    """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch."""
+def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+    """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch;
+    for the implicit schemes ``S[3]`` keeps the derivative of the previous step (zero at the
+    start), ``sp`` = [c, M, c0, c1] (spec 5.2)."""
+    if scheme == 3:
+        _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+        return
     k1 = S[0]
     k2 = S[1]
     k3 = S[2]
@@ -95,6 +119,34 @@ def step(y, t, h, scheme, L, R, P, E, B, Mo, W, cd_scale, S, piece):
 
 
 @njit(cache=True, error_model="numpy")
+def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+    """MoorDyn's implicit Euler family: M fixed-point iterations of y* = y + c h f, f = f(t + c h, y*),
+    relaxed between iterations with rho_m = c0 (1 - 1/M) + c1 (1 - (tanh(4 ((m+1)/M - 1/2)) + 1)/2),
+    starting from the derivative of the previous step; then y += h f."""
+    c = sp[0]
+    M = int(sp[1])
+    c0 = sp[2]
+    c1 = sp[3]
+    f = S[3]
+    fold = S[2]
+    ys = S[4]
+    for i in range(y.size):
+        fold[i] = f[i]
+    for m in range(M):
+        _axpy(ys, y, c * h, f)
+        B.ctl[1] = 1 if m == 0 else 0
+        rhs(t + c * h, ys, f, L, R, P, E, B, Mo, W, cd_scale, piece)
+        if m < M - 1:
+            rel = c0 * (1.0 - 1.0 / M) + c1 * (1.0 - 0.5 * (math.tanh(4.0 * ((m + 1.0) / M - 0.5)) + 1.0))
+            for i in range(y.size):
+                f[i] = (1.0 - rel) * f[i] + rel * fold[i]
+                fold[i] = f[i]
+    B.ctl[1] = 0
+    for i in range(y.size):
+        y[i] += h * f[i]
+
+
+@njit(cache=True, error_model="numpy")
 def check_state(y, vmax):
     """Index of the first state row with a non-finite value or a speed above ``vmax``, else -1."""
     nrow = y.size // 6
@@ -109,7 +161,7 @@ def check_state(y, vmax):
 
 
 @njit(cache=True, error_model="numpy")
-def advance(y, t, t_end, dtM, scheme, L, R, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
+def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
     ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory
     piece) so that the Work arrays describe the state at ``t_end``.
@@ -138,7 +190,7 @@ def advance(y, t, t_end, dtM, scheme, L, R, P, E, B, Mo, W, cd_scale, S, vmax, f
         if j < nk and Mo.t[j] - t < h:
             h = Mo.t[j] - t
         piece = motion_piece(Mo, t + 0.5 * h)
-        step(y, t, h, scheme, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+        step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
         n_steps += 1
         if t_end - (t + h) <= tol:
             t = t_end

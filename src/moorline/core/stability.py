@@ -20,7 +20,7 @@ from .layout import P_FREE, Layout
 
 #: largest stable omega*dt for an UNDAMPED oscillation: RK4 is stable to 2.83; RK2 amplifies it by
 #: about (omega dt)^4 / 8 per step (spec 5.4), kept below 1e-6 per step; Euler always amplifies it
-UNDAMPED_OMEGA_DT = {Scheme.EULER: 0.0, Scheme.RK2: (8e-6) ** 0.25, Scheme.RK4: 2.8}
+UNDAMPED_OMEGA_DT = {Scheme.EULER: 0.0, Scheme.RK2: (8e-6) ** 0.25, Scheme.RK4: 2.8, Scheme.IMPLICIT: 1.0}
 
 
 @dataclass
@@ -112,18 +112,19 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
 
 
 def stability_report(model: Model, layout: Layout, dtM: float, scheme: Scheme,
-                     on_seabed: np.ndarray | None = None) -> tuple[Mode, float, str]:
+                     on_seabed: np.ndarray | None = None, label: str | None = None) -> tuple[Mode, float, str]:
     """The governing mode, the largest stable dtM [s] for ``scheme``, and a one-line report."""
     modes = fast_modes(model, layout, on_seabed)
     gov = min(modes, key=lambda m: m.dt_limit(scheme))
     limit = gov.dt_limit(scheme)
     ratio = gov.rate * dtM
     bound = STABLE_OMEGA_DT[scheme] if gov.damped else UNDAMPED_OMEGA_DT[scheme]
+    name = label or scheme.name
     if limit > 0:
-        text = (f"dtM = {dtM:.4g} s ({scheme.name}); governing mode: {gov.where}, {gov.kind}, "
+        text = (f"dtM = {dtM:.4g} s ({name}); governing mode: {gov.where}, {gov.kind}, "
                 f"rate {gov.rate:.4g} 1/s, rate*dtM = {ratio:.3g} (stable up to about {bound:.3g}, i.e. "
                 f"dtM <= {limit:.3g} s)")
     else:
-        text = (f"dtM = {dtM:.4g} s ({scheme.name}); governing mode: {gov.where}, {gov.kind}, rate "
-                f"{gov.rate:.4g} 1/s: {scheme.name} amplifies undamped modes at any dtM; use RK4")
+        text = (f"dtM = {dtM:.4g} s ({name}); governing mode: {gov.where}, {gov.kind}, rate "
+                f"{gov.rate:.4g} 1/s: {name} amplifies undamped modes at any dtM; use RK4")
     return gov, limit, text

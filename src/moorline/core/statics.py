@@ -165,7 +165,7 @@ def _fairlead_tensions(L, W, out):
 
 
 @njit(cache=True, error_model="numpy")
-def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, S, vmax):
+def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, S, vmax):
     """MoorDyn's legacy initial-condition solver (spec 6.4): integrate with drag scaled by
     ``cd_scale`` until the end-B tension of every line changes by less than ``threshIC``
     (relative) over ten samples ``dtIC/10`` apart.
@@ -180,7 +180,7 @@ def dynamic_relaxation(y, dtM, scheme, dtIC, TmaxIC, threshIC, cd_scale, L, R, P
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, L, R, P, E, B, Mo, W, cd_scale, S, vmax, False)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, False)
         if bad >= 0:
             return False, t, bad
         rhs(t, y, S[0], L, R, P, E, B, Mo, W, cd_scale, -1)
