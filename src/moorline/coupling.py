@@ -360,11 +360,14 @@ class System:
             log.warning("initial conditions did NOT converge (%s) within TmaxIC = %.4g s; the dynamics "
                         "start from the last iterate", rep["method"], opts.TmaxIC)
 
-    def _report_stability(self) -> None:
+    def _lines_on_seabed(self) -> np.ndarray:
+        """Lines with a node in seabed contact at the last evaluation (for the seabed modes)."""
         L = self.layout.lines
         fbed = np.any(self.work.Fbed != 0.0, axis=1)
-        on_bed = np.array([np.any(fbed[L.node_ptr[i]:L.node_ptr[i + 1]]) for i in range(len(self.lines))])
-        gov, limit, text = stability_report(self.model, self.layout, self.dtM, self.scheme, on_bed,
+        return np.array([np.any(fbed[L.node_ptr[i]:L.node_ptr[i + 1]]) for i in range(len(self.lines))])
+
+    def _report_stability(self) -> None:
+        gov, limit, text = stability_report(self.model, self.layout, self.dtM, self.scheme, self._lines_on_seabed(),
                                             self.scheme_label)
         self.stability = {"governing": gov.where, "mode": gov.kind, "rate": gov.rate,
                           "dtM_limit": limit, "text": text}
@@ -467,7 +470,8 @@ class System:
         nr = self.layout.n_rows
         v = self.y[3 * nr + 3 * row: 3 * nr + 3 * row + 3]
         speed = float(np.linalg.norm(v)) if np.all(np.isfinite(v)) else math.nan
-        _, limit, _ = stability_report(self.model, self.layout, self.dtM, self.scheme, label=self.scheme_label)
+        _, limit, _ = stability_report(self.model, self.layout, self.dtM, self.scheme, self._lines_on_seabed(),
+                                       self.scheme_label)
         suggest = min(0.5 * self.dtM, 0.8 * limit)
         where = f"line {num} node {node}" if what == "line" else f"point {num}"
         reason = "non-finite state" if not math.isfinite(speed) else f"speed {speed:.3g} m/s > {MAX_NODE_SPEED} m/s"
