@@ -464,6 +464,11 @@ class System:
         self._S[...] = 0.0
         if self.initialized:
             self._evaluate()
+            # stick-slip friction springs restart relaxed at the new node positions
+            B = self.layout.seabed
+            B.anchor[...] = self.work.r
+            B.slip[...] = 0.0
+            self._evaluate()
 
     def _instability(self, t: float, row: int, context: str) -> SimulationError:
         what, num, node = self.state_rows()[row]

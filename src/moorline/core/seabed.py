@@ -10,8 +10,9 @@ Friction (spec 3.9), on the node velocity in the seabed plane, with normal force
 
 - isotropic (MoorDyn-C): saturated damping of the whole sliding velocity, mu cv |v| up to
   mc mu N, then mu N;
-- directional (MoorDyn-F): the same, separately for the axial part (along the line tangent) and the
-  transverse part with mu_kA and mu_kT;
+- directional (MoorDyn-F): the same, separately for the axial part (along the line tangent
+  projected on the seabed plane; MoorDyn-F uses the unprojected tangent, which puts part of the
+  friction normal to a slope) and the transverse part, with mu_kA and mu_kT;
 - stickslip (moorline): every node in contact holds its place with an elastic friction spring
   (stiffness kShear, damping cBot, per unit contact area) to an anchor point, separately in the
   axial and transverse directions. While the spring force stays below the static limit
@@ -153,14 +154,11 @@ def seabed_force(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz
     if E.fric == FRIC_ISOTROPIC:
         fx, fy, fz = _saturate(E.muT, E.cv, E.mc, N, sx, sy, sz)
         return bx + fx, by + fy, bz + fz
-    if E.fric == FRIC_DIRECTIONAL:
-        va = sx * qx + sy * qy + sz * qz
-        ax, ay, az = _saturate(E.muA, E.cv, E.mc, N, va * qx, va * qy, va * qz)
-        tx, ty, tz = _saturate(E.muT, E.cv, E.mc, N, sx - va * qx, sy - va * qy, sz - va * qz)
-        return bx + ax + tx, by + ay + ty, bz + az + tz
-    if not stick:
+    if E.fric != FRIC_DIRECTIONAL and not stick:
         return bx, by, bz
-    # stick-slip: axial direction = line tangent projected on the seabed plane
+    # axial direction: the line tangent projected on the seabed plane (MoorDyn-F splits along the
+    # unprojected tangent, which gives the friction a component normal to the seabed wherever the
+    # line is tilted against it: on a slope that pushes the node off the seabed)
     qn = qx * nx + qy * ny + qz * nz
     ux = qx - qn * nx
     uy = qy - qn * ny
@@ -170,6 +168,12 @@ def seabed_force(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz
         ux /= um
         uy /= um
         uz /= um
+    if E.fric == FRIC_DIRECTIONAL:
+        va = sx * ux + sy * uy + sz * uz
+        ax, ay, az = _saturate(E.muA, E.cv, E.mc, N, va * ux, va * uy, va * uz)
+        tx, ty, tz = _saturate(E.muT, E.cv, E.mc, N, sx - va * ux, sy - va * uy, sz - va * uz)
+        return bx + ax + tx, by + ay + ty, bz + az + tz
+    # stick-slip
     N = max(fn, 0.0)
     dx = rx - anchor[n, 0]
     dy = ry - anchor[n, 1]
