@@ -14,6 +14,7 @@ import numpy as np
 from numba import njit
 
 from .layout import ATT_ROD_A, ATT_ROD_B
+from .numerics import bracket, unit3
 from .seabed import seabed_at, seabed_force
 
 _EPS = 1e-12
@@ -27,16 +28,9 @@ def table_interp(x, y, start, n, v):
     last = start + n - 1
     if v >= x[last]:
         return y[last]
-    lo = start
-    hi = last
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if x[mid] <= v:
-            lo = mid
-        else:
-            hi = mid
-    f = (v - x[lo]) / (x[hi] - x[lo])
-    return y[lo] + f * (y[hi] - y[lo])
+    lo = bracket(x, start, last, v)
+    f = (v - x[lo]) / (x[lo + 1] - x[lo])
+    return y[lo] + f * (y[lo + 1] - y[lo])
 
 
 @njit(cache=True, error_model="numpy")
@@ -142,18 +136,7 @@ def line_forces(li, L, E, B, W, cd_scale):
         s = s0 + k
         a = n0 + k
         b = a + 1
-        dx = r[b, 0] - r[a, 0]
-        dy = r[b, 1] - r[a, 1]
-        dz = r[b, 2] - r[a, 2]
-        ls = math.sqrt(dx * dx + dy * dy + dz * dz)
-        if ls > 0.0:
-            ex = dx / ls
-            ey = dy / ls
-            ez = dz / ls
-        else:
-            ex = 0.0
-            ey = 0.0
-            ez = 0.0
+        ex, ey, ez, ls = unit3(r[b, 0] - r[a, 0], r[b, 1] - r[a, 1], r[b, 2] - r[a, 2])
         ldot = ex * (v[b, 0] - v[a, 0]) + ey * (v[b, 1] - v[a, 1]) + ez * (v[b, 2] - v[a, 2])
         l0 = seg_l0[s]
         strain = ls / l0 - 1.0
@@ -203,14 +186,7 @@ def line_forces(li, L, E, B, W, cd_scale):
         else:
             ia = n - 1
             ib = n + 1
-        qx = r[ib, 0] - r[ia, 0]
-        qy = r[ib, 1] - r[ia, 1]
-        qz = r[ib, 2] - r[ia, 2]
-        qn = math.sqrt(qx * qx + qy * qy + qz * qz)
-        if qn > 0.0:
-            qx /= qn
-            qy /= qn
-            qz /= qn
+        qx, qy, qz, _ = unit3(r[ib, 0] - r[ia, 0], r[ib, 1] - r[ia, 1], r[ib, 2] - r[ia, 2])
         if (i == 0 and clamped_a) or (i == N and clamped_b):
             qx, qy, qz = end_tangent(L, W, li, 0 if i == 0 else 1)
         w_q[n, 0] = qx
@@ -351,13 +327,9 @@ def _kappa(lam, ax, ay, az, bx, by, bz):
     if c >= 1.0 - 2.220446049250313e-16 or lam <= 0.0:
         return 0.0, 0.0, 0.0, 0.0
     kap = 4.0 / lam * math.sqrt(0.5 * (1.0 - c))
-    px = ay * bz - az * by
-    py = az * bx - ax * bz
-    pz = ax * by - ay * bx
-    pn = math.sqrt(px * px + py * py + pz * pz)
-    if pn == 0.0:  # anti-parallel: no defined bending plane
-        return kap, 0.0, 0.0, 0.0
-    return kap, px / pn, py / pn, pz / pn
+    # the zero vector when a and b are anti-parallel: no defined bending plane
+    px, py, pz, _ = unit3(ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
+    return kap, px, py, pz
 
 
 @njit(cache=True, error_model="numpy", inline="always")

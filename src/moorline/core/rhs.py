@@ -13,21 +13,18 @@ from numba import njit
 
 from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
+from .numerics import bracket
 
 
 @njit(cache=True, error_model="numpy")
 def motion_piece(Mo, t):
     """Index of the trajectory piece holding time ``t`` (right-continuous at knots, clamped)."""
     tk = Mo.t
-    lo = 0
-    hi = tk.size - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if tk[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    if t < tk[1]:
+        return 0
+    if t >= tk[tk.size - 2]:
+        return tk.size - 2
+    return bracket(tk, 1, tk.size - 2, t)
 
 
 @njit(cache=True, error_model="numpy")

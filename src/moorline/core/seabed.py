@@ -29,6 +29,7 @@ import math
 from numba import njit
 
 from .layout import CONTACT_NORMAL, FRIC_DIRECTIONAL, FRIC_ISOTROPIC
+from .numerics import bracket, unit3
 
 
 @njit(cache=True, error_model="numpy")
@@ -39,14 +40,7 @@ def _locate(g, v):
         return 0, 0.0
     if v >= g[n - 1]:
         return n - 2, 1.0
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if g[mid] <= v:
-            lo = mid
-        else:
-            hi = mid
+    lo = bracket(g, 0, n - 1, v)
     return lo, (v - g[lo]) / (g[lo + 1] - g[lo])
 
 
@@ -160,14 +154,7 @@ def seabed_force(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz
     # unprojected tangent, which gives the friction a component normal to the seabed wherever the
     # line is tilted against it: on a slope that pushes the node off the seabed)
     qn = qx * nx + qy * ny + qz * nz
-    ux = qx - qn * nx
-    uy = qy - qn * ny
-    uz = qz - qn * nz
-    um = math.sqrt(ux * ux + uy * uy + uz * uz)
-    if um > 0.0:
-        ux /= um
-        uy /= um
-        uz /= um
+    ux, uy, uz, _ = unit3(qx - qn * nx, qy - qn * ny, qz - qn * nz)
     if E.fric == FRIC_DIRECTIONAL:
         va = sx * ux + sy * uy + sz * uz
         ax, ay, az = _saturate(E.muA, E.cv, E.mc, N, va * ux, va * uy, va * uz)
@@ -194,21 +181,9 @@ def seabed_force(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz
     wx = sx - va * ux
     wy = sy - va * uy
     wz = sz - va * uz
-    tm = math.sqrt(tx * tx + ty * ty + tz * tz)
-    if tm > 0.0:
-        ex = tx / tm
-        ey = ty / tm
-        ez = tz / tm
-    else:
-        wm = math.sqrt(wx * wx + wy * wy + wz * wz)
-        if wm > 0.0:
-            ex = wx / wm
-            ey = wy / wm
-            ez = wz / wm
-        else:
-            ex = 0.0
-            ey = 0.0
-            ez = 0.0
+    ex, ey, ez, tm = unit3(tx, ty, tz)
+    if tm == 0.0:
+        ex, ey, ez, _ = unit3(wx, wy, wz)
     vt = wx * ex + wy * ey + wz * ez
     ft, tm2, st = _stick(k, c, E.muT, E.mc, N, tm, vt, slip[n, 1] != 0.0, commit)
     if commit:
