@@ -20,7 +20,10 @@ def floater_offset(t):
     return surge, heave
 
 
-def main(path=Path(__file__).with_name("surge.csv"), duration=120.0, dt=0.1):
+OUT = Path(__file__).with_name("surge.csv")
+
+
+def main(path=OUT, duration=120.0, dt=0.1):
     t = np.round(np.arange(0.0, duration + 0.5 * dt, dt), 10)
     surge, heave = floater_offset(t)
     cols = [t]

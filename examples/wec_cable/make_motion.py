@@ -8,7 +8,10 @@ from pathlib import Path
 import numpy as np
 
 
-def main(path=Path(__file__).with_name("buoy_motion.csv"), duration=96.0, dt=0.05, period=8.0):
+OUT = Path(__file__).with_name("buoy_motion.csv")
+
+
+def main(path=OUT, duration=96.0, dt=0.05, period=8.0):
     t = np.round(np.arange(0.0, duration + 0.5 * dt, dt), 10)
     u = np.clip(t / period, 0.0, 1.0)
     ramp = u**3 * (6 * u**2 - 15 * u + 10)

@@ -31,6 +31,17 @@ def model_hash(model) -> str:
     return h.hexdigest()
 
 
+def _environment_summary(env) -> dict:
+    """The environment as JSON-ready values; a bathymetry grid is named by its source and size."""
+    out = asdict(env)
+    b = env.bathymetry
+    if b is not None:
+        out["bathymetry"] = {"source": b.source, "nx": int(b.x.size), "ny": int(b.y.size),
+                             "x_range": [float(b.x[0]), float(b.x[-1])], "y_range": [float(b.y[0]), float(b.y[-1])],
+                             "z_range": [float(b.z.min()), float(b.z.max())]}
+    return out
+
+
 class Recorder:
     """Collects the state of a :class:`~moorline.coupling.System` at output times.
 
@@ -128,7 +139,7 @@ class Recorder:
             "time_scheme": s.scheme_label,
             "dtM": s.dtM,
             "options": json.dumps(opts, default=str),
-            "environment": json.dumps(asdict(s.model.env)),
+            "environment": json.dumps(_environment_summary(s.model.env)),
             "ic": json.dumps(s.ic_report, default=str),
         }
         return xr.Dataset(dv, coords=coords, attrs=attrs)

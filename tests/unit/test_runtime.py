@@ -201,3 +201,18 @@ def test_cli_statics_and_check(capsys):
     assert "fairlead tension" in capsys.readouterr().out
     assert cli_main(["check", str(EXAMPLE)]) == 0
     assert "governing mode" in capsys.readouterr().out
+
+
+def test_simulate_with_bathymetry_records_the_grid_in_the_attributes():
+    """Regression: the provenance attributes once tried to JSON-encode the grid arrays and every run
+    with a bathymetry failed at its end."""
+    import json
+
+    from moorline.model import Bathymetry
+
+    m = small_model()
+    m.env.bathymetry = Bathymetry([-50.0, 400.0], [-50.0, 50.0], [[-100.0, -100.0], [-100.0, -100.0]], "flat")
+    ds = moorline.simulate(m, 0.2, dt_out=0.1, progress=False)
+    env = json.loads(ds.attrs["environment"])
+    assert env["bathymetry"] == {"source": "flat", "nx": 2, "ny": 2, "x_range": [-50.0, 400.0],
+                                 "y_range": [-50.0, 50.0], "z_range": [-100.0, -100.0]}

@@ -92,6 +92,9 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
             modes.append(Mode(name, "seabed contact stiffness", math.sqrt(E.kBot * lt.d / lt.w)))
             if model.env.friction == "stickslip":
                 modes.append(Mode(name, "stick-slip friction spring", math.sqrt(E.kshear * lt.d / lt.w)))
+            elif max(E.muT, E.muA) > 0:
+                # the creep branch of the saturated models is a damper mu cv on the node mass w l
+                modes.append(Mode(name, "seabed friction creep damping", max(E.muT, E.muA) * E.cv / (lt.w * l0)))
     # points between stiff lines: axial stiffness of the attached end segments on the point mass
     P = layout.points
     for p, pt in enumerate(model.points):
