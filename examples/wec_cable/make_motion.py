@@ -7,7 +7,6 @@ from pathlib import Path
 
 import numpy as np
 
-
 OUT = Path(__file__).with_name("buoy_motion.csv")
 
 
