@@ -78,6 +78,15 @@ class LineView:
         """Curvature at each node [1/m], shape (N+1,); zero at pinned ends."""
         return self._s.work.kurv[self._n].copy()
 
+    def node_bending_forces(self) -> np.ndarray:
+        """Bending forces on each node [N], shape (N+1, 3) (zero for lines without EI)."""
+        return self._s.work.Fbend[self._n].copy()
+
+    def end_moments(self) -> np.ndarray:
+        """Bending moment a clamped end A and end B put on its rod [N m], shape (2, 3); zero at
+        pinned ends."""
+        return self._s.work.end_moment[self.index].copy()
+
     def segment_tension_vectors(self) -> np.ndarray:
         """Tension plus internal damping force of each segment [N], shape (N, 3), from node k to k+1."""
         w = self._s.work
