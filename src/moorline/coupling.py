@@ -75,8 +75,20 @@ class LineView:
         return self._s.work.F[self._n].copy()
 
     def node_curvatures(self) -> np.ndarray:
-        """Curvature at each node [1/m], shape (N+1,); zero at pinned ends."""
-        return self._s.work.kurv[self._n].copy()
+        """Curvature at each node [1/m], shape (N+1,): (4/lam) sin(theta/2) between the adjacent
+        segments (spec 3.10); zero at pinned ends. Lines with EI get it from the last evaluation
+        (with their clamped ends); for the others it is computed here from the node positions."""
+        if self._s.layout.lines.EI[self.index] > 0 or self._s.layout.lines.ei_tab[self.index, 1] > 0:
+            return self._s.work.kurv[self._n].copy()
+        r = self._s.work.r[self._n]
+        d = np.diff(r, axis=0)
+        ls = np.linalg.norm(d, axis=1)
+        k = np.zeros(len(r))
+        ok = (ls[:-1] > 0) & (ls[1:] > 0)
+        c = np.einsum("ij,ij->i", d[:-1], d[1:]) / np.where(ok, ls[:-1] * ls[1:], 1.0)
+        k[1:-1] = np.where(ok & (c < 1.0 - 2.220446049250313e-16),
+                           4.0 / (ls[:-1] + ls[1:]) * np.sqrt(np.clip(0.5 * (1.0 - c), 0.0, None)), 0.0)
+        return k
 
     def node_bending_forces(self) -> np.ndarray:
         """Bending forces on each node [N], shape (N+1, 3) (zero for lines without EI)."""

@@ -70,7 +70,7 @@ class Recorder:
             d["node_position"].append(w.r.copy())
             d["node_velocity"].append(w.v.copy())
             d["node_tension"].append(np.concatenate([ln.node_tensions() for ln in s.lines]))
-            d["node_curvature"].append(w.kurv.copy())
+            d["node_curvature"].append(np.concatenate([ln.node_curvatures() for ln in s.lines]))
         d["segment_tension"].append(np.linalg.norm(w.T + w.Td, axis=1))
         d["segment_strain"].append(w.seg_len / s.layout.lines.seg_l0 - 1.0)
         d["line_tension_a"].append([ln.anchor_tension() for ln in s.lines])
