@@ -349,18 +349,19 @@ def line_bending(li, L, W):
     et0 = L.ei_tab[li, 0]
     etn = L.ei_tab[li, 1]
     stiff = EIc > 0.0 or etn > 0
-    if not stiff:
-        # no bending forces: the curvature is only an output, computed on demand
-        # (moorline.coupling.LineView.node_curvatures), not in every evaluation
-        return
     for i in range(N + 1):
-        kurv[n0 + i] = 0.0
         Fb[n0 + i, 0] = 0.0
         Fb[n0 + i, 1] = 0.0
         Fb[n0 + i, 2] = 0.0
     for j in range(2):
         for c in range(3):
             W.end_moment[li, j, c] = 0.0
+    if not stiff:
+        # no bending forces: the curvature is only an output, computed on demand
+        # (moorline.coupling.LineView.node_curvatures), not in every evaluation
+        return
+    for i in range(N + 1):
+        kurv[n0 + i] = 0.0
     for i in range(1, N):
         a = s0 + i - 1
         b = s0 + i
