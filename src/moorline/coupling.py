@@ -236,7 +236,6 @@ class System:
         self.initialized = False
         self._grid_warned = False
         self.ic_report: dict = {}
-        self._xd_prev = np.zeros(self.n_coupled_dof)
 
     @classmethod
     def from_file(cls, path, **kwargs) -> System:
@@ -287,9 +286,6 @@ class System:
             return np.zeros(0)
         return np.concatenate([self.work.pF[p] for p in self.layout.coupled_points])
 
-    def state_velocity_norm(self) -> float:
-        return float(np.max(np.abs(self.y[self.y.size // 2:]))) if self.y.size else 0.0
-
     # ------------------------------------------------------------------ init
     def init(self, x=None, xd=None, *, solve_ic: bool = True) -> np.ndarray:
         """Place coupled objects at ``x``, start every line on its catenary and (with
@@ -311,7 +307,6 @@ class System:
         if x is None:
             x = self.deck_coupled_positions()
         xd = self._check_dof(xd, "xd")
-        self._xd_prev = np.zeros(self.n_coupled_dof) if xd is None else xd.copy()
         self.t = 0.0
         self._motion = static_motion(x)
         B = self.layout.seabed
@@ -418,7 +413,6 @@ class System:
             self._evaluate()
             return self.coupled_forces()
         self._advance(step_motion(x, xd, self.t, dt), self.t + dt)
-        self._xd_prev = xd.copy()
         return self.coupled_forces()
 
     def advance_to(self, t_end: float, motion: Motion) -> None:
