@@ -13,9 +13,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .layout import ATT_ROD_A, ATT_ROD_B
+from .layout import ATT_ROD_A, ATT_ROD_B, FRIC_STICKSLIP
 from .numerics import bracket, unit3
-from .seabed import seabed_at, seabed_force
+from .seabed import seabed_at, seabed_force, seabed_force_stickslip
 
 _EPS = 1e-12
 
@@ -127,7 +127,8 @@ def line_forces(li, L, E, B, W, cd_scale):
     slip = B.slip
     ctl = B.ctl
     flat = gx.size == 0
-    stick_commit = E.fric == 2 and ctl[0] != 0 and ctl[1] != 0
+    stickslip = E.fric == FRIC_STICKSLIP
+    stick_commit = stickslip and ctl[0] != 0 and ctl[1] != 0
     clamped_a = L.clamped[li, 0] != 0
     clamped_b = L.clamped[li, 1] != 0
 
@@ -264,8 +265,12 @@ def line_forces(li, L, E, B, W, cd_scale):
             if outside:
                 ctl[2] += 1
         if r[n, 2] < zb:
-            bx, by, bz = seabed_force(E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1], r[n, 2],
-                                      v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam)
+            if stickslip:
+                bx, by, bz = seabed_force_stickslip(E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1],
+                                                    r[n, 2], v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam)
+            else:
+                bx, by, bz = seabed_force(E, zb, bnx, bny, bnz, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1],
+                                          v[n, 2], qx, qy, qz, d, lam)
         else:
             bx = 0.0
             by = 0.0

@@ -28,7 +28,7 @@ import math
 
 from numba import njit
 
-from .layout import CONTACT_NORMAL, FRIC_DIRECTIONAL, FRIC_ISOTROPIC
+from .layout import CONTACT_NORMAL, FRIC_ISOTROPIC
 from .numerics import bracket, unit3
 
 
@@ -114,16 +114,8 @@ def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
 
 
 @njit(cache=True, error_model="numpy")
-def seabed_force(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
-    """Contact and friction force on line node ``n`` at (rx, ry, rz), below the local seabed height
-    ``zb`` with unit normal n, moving at (vx, vy, vz) with tangent q, diameter ``d`` and unstretched
-    nodal length ``lam``; (anchor, slip, ctl) is the stick-slip state of
-    :class:`~moorline.core.layout.Seabed`. Returns (fx, fy, fz). Callers test for contact
-    themselves (and reset the anchors of nodes off the seabed), so that nodes in the water cost no
-    call."""
-    stick = E.fric == 2 and ctl[0] != 0
-    commit = stick and ctl[1] != 0
-    area = d * lam
+def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
+    """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
     if E.contact == CONTACT_NORMAL:
         vn = vx * nx + vy * ny + vz * nz
         fn = ((zb - rz) * nz * E.kBot - vn * E.cBot) * area
@@ -140,27 +132,49 @@ def seabed_force(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz
         bx = 0.0
         by = 0.0
         bz = fn
+    return bx, by, bz, fn, nx, ny, nz, vx - vn * nx, vy - vn * ny, vz - vn * nz
+
+
+@njit(cache=True, error_model="numpy")
+def _plane_axis(qx, qy, qz, nx, ny, nz):
+    """The line tangent projected on the seabed plane, normalised (MoorDyn-F splits along the
+    unprojected tangent, which gives the friction a component normal to the seabed wherever the
+    line is tilted against it: on a slope that pushes the node off the seabed)."""
+    qn = qx * nx + qy * ny + qz * nz
+    ux, uy, uz, _ = unit3(qx - qn * nx, qy - qn * ny, qz - qn * nz)
+    return ux, uy, uz
+
+
+@njit(cache=True, error_model="numpy")
+def seabed_force(E, zb, nx, ny, nz, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
+    """Contact and saturated-damping friction (isotropic or directional) on a line node at
+    (rx, ry, rz), below the local seabed height ``zb`` with unit normal n, moving at (vx, vy, vz)
+    with tangent q, diameter ``d`` and unstretched nodal length ``lam``. Scalars only, so that a
+    node in contact costs no array reference counting. Returns (fx, fy, fz)."""
+    bx, by, bz, fn, nx, ny, nz, sx, sy, sz = _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, d * lam)
     N = abs(fn)
-    # sliding velocity in the seabed plane
-    sx = vx - vn * nx
-    sy = vy - vn * ny
-    sz = vz - vn * nz
     if E.fric == FRIC_ISOTROPIC:
         fx, fy, fz = _saturate(E.muT, E.cv, E.mc, N, sx, sy, sz)
         return bx + fx, by + fy, bz + fz
-    if E.fric != FRIC_DIRECTIONAL and not stick:
+    ux, uy, uz = _plane_axis(qx, qy, qz, nx, ny, nz)
+    va = sx * ux + sy * uy + sz * uz
+    ax, ay, az = _saturate(E.muA, E.cv, E.mc, N, va * ux, va * uy, va * uz)
+    tx, ty, tz = _saturate(E.muT, E.cv, E.mc, N, sx - va * ux, sy - va * uy, sz - va * uz)
+    return bx + ax + tx, by + ay + ty, bz + az + tz
+
+
+@njit(cache=True, error_model="numpy")
+def seabed_force_stickslip(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
+    """Contact and stick-slip friction on line node ``n`` (arguments as :func:`seabed_force`, plus
+    the stick-slip state (anchor, slip, ctl) of :class:`~moorline.core.layout.Seabed`). The
+    friction springs act only while ``ctl[0]`` is set (not during the IC solve); the anchors are
+    committed when ``ctl[1]`` is set. Returns (fx, fy, fz)."""
+    area = d * lam
+    bx, by, bz, fn, nx, ny, nz, sx, sy, sz = _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area)
+    if ctl[0] == 0:
         return bx, by, bz
-    # axial direction: the line tangent projected on the seabed plane (MoorDyn-F splits along the
-    # unprojected tangent, which gives the friction a component normal to the seabed wherever the
-    # line is tilted against it: on a slope that pushes the node off the seabed)
-    qn = qx * nx + qy * ny + qz * nz
-    ux, uy, uz, _ = unit3(qx - qn * nx, qy - qn * ny, qz - qn * nz)
-    if E.fric == FRIC_DIRECTIONAL:
-        va = sx * ux + sy * uy + sz * uz
-        ax, ay, az = _saturate(E.muA, E.cv, E.mc, N, va * ux, va * uy, va * uz)
-        tx, ty, tz = _saturate(E.muT, E.cv, E.mc, N, sx - va * ux, sy - va * uy, sz - va * uz)
-        return bx + ax + tx, by + ay + ty, bz + az + tz
-    # stick-slip
+    commit = ctl[1] != 0
+    ux, uy, uz = _plane_axis(qx, qy, qz, nx, ny, nz)
     N = max(fn, 0.0)
     dx = rx - anchor[n, 0]
     dy = ry - anchor[n, 1]
