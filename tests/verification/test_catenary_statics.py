@@ -115,17 +115,21 @@ def touchdown_catenary(XF, ZF, L, EA, W):
 # model side
 
 
-def settled_line(N, depth, anchor, fair, L):
-    """Single line, fixed anchor, coupled fairlead, brought to static equilibrium by the
-    stationary IC solver with a tight tolerance (threshIC 1e-6; TmaxIC is a cap, not the usual
-    stop). dtM = 0.02 s keeps the pseudo-time iteration stable with the stiff seabed spring."""
-    m = Model(env=Environment(g=G, rho=RHO, depth=depth, kBot=KBOT),
-              options=Options(dtM=0.02, threshIC=1e-6, TmaxIC=5000.0, dtIC=1.0))
+def one_line_model(N, depth, anchor, fair, L, options):
+    """The test chain from a fixed anchor to a coupled fairlead."""
+    m = Model(env=Environment(g=G, rho=RHO, depth=depth, kBot=KBOT), options=options)
     m.add_line_type("chain", d=D, w=W_AIR, EA=EA, BA=-0.8, Cd=1.2, Ca=1.0, CdAx=0.2, CaAx=0.5)
     a = m.add_point("fixed", anchor)
     f = m.add_point("coupled", fair)
     m.add_line("chain", a, f, L=L, N=N)
-    s = System(m)
+    return m
+
+
+def settled_line(N, depth, anchor, fair, L):
+    """Single line, fixed anchor, coupled fairlead, brought to static equilibrium by the
+    stationary IC solver with a tight tolerance (threshIC 1e-6; TmaxIC is a cap, not the usual
+    stop). dtM = 0.02 s keeps the pseudo-time iteration stable with the stiff seabed spring."""
+    s = System(one_line_model(N, depth, anchor, fair, L, Options(dtM=0.02, threshIC=1e-6, TmaxIC=5000.0, dtIC=1.0)))
     s.init(solve_ic=True)
     assert s.ic_report.get("converged"), f"IC solver did not converge: {s.ic_report}"
     # residual check: the node accelerations at rest must be negligible against g, otherwise the
@@ -306,14 +310,9 @@ def test_dynamic_relaxation_reaches_the_same_catenary(case, errs_a, errs_b):
         depth, anchor, fair, L = B_DEPTH, B_ANCHOR, B_FAIR, B_L
         H, VB, _ = touchdown_catenary(fair[0] - anchor[0], fair[2] - anchor[2], L, EA, W_WET)
         N, stat = N_B, errs_b[N_B]["system"]
-    m = Model(env=Environment(g=G, rho=RHO, depth=depth, kBot=KBOT),
-              options=Options(dtM=0.003, tScheme="RK2", ICgenDynamic=1, threshIC=1e-5, TmaxIC=1000.0,
-                              dtIC=2.0, CdScaleIC=5.0))
-    m.add_line_type("chain", d=D, w=W_AIR, EA=EA, BA=-0.8, Cd=1.2, Ca=1.0, CdAx=0.2, CaAx=0.5)
-    a = m.add_point("fixed", anchor)
-    f = m.add_point("coupled", fair)
-    m.add_line("chain", a, f, L=L, N=N)
-    s = System(m)
+    s = System(one_line_model(N, depth, anchor, fair, L,
+                              Options(dtM=0.003, tScheme="RK2", ICgenDynamic=1, threshIC=1e-5, TmaxIC=1000.0,
+                                      dtIC=2.0, CdScaleIC=5.0)))
     s.init(solve_ic=True)
     assert s.ic_report.get("converged"), s.ic_report
     F = s.points[1].force()

@@ -76,12 +76,16 @@ def _data_rows(lines: list[str], start: int = 0) -> list[_Row]:
     return rows
 
 
+def _float_or_nan(tok: str) -> float:
+    try:
+        return float(tok)
+    except ValueError:
+        return math.nan
+
+
 def _number(tok: str, row: _Row, path: Path, what: str) -> float:
     """A finite float from a token, or a located DeckError naming what was expected."""
-    try:
-        v = float(tok)
-    except ValueError:
-        v = math.nan
+    v = _float_or_nan(tok)
     if not math.isfinite(v):
         raise DeckError(f"{what}: expected a finite number, got {tok!r}", file=path, line=row[0], row=row[1],
                         field=what)
@@ -90,10 +94,7 @@ def _number(tok: str, row: _Row, path: Path, what: str) -> float:
 
 def _whole(tok: str, row: _Row, path: Path, what: str) -> int:
     """A whole number >= 1 from a token (``5`` or ``5.0``), or a located DeckError."""
-    try:
-        v = float(tok)
-    except ValueError:
-        v = math.nan
+    v = _float_or_nan(tok)
     if not (math.isfinite(v) and v.is_integer() and v >= 1):
         raise DeckError(f"{what}: expected a whole number >= 1, got {tok!r}", file=path, line=row[0], row=row[1],
                         field=what)
