@@ -271,13 +271,17 @@ class System:
         return x
 
     # ------------------------------------------------------------------ evaluation
+    def _kernel_arrays(self):
+        """(lines, rods, points, env, seabed, work): what every kernel call takes."""
+        lay = self.layout
+        return lay.lines, lay.rods, lay.points, lay.env, lay.seabed, self.work
+
     def _evaluate(self, piece: int = -1) -> None:
         """Evaluate every load at the current state and time (refreshes what the views report).
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
         dy = self._S[0]
-        L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
-                            self.layout.seabed, self.work)
+        L, R, P, E, B, W = self._kernel_arrays()
         rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, 1.0, piece)
 
     def coupled_forces(self) -> np.ndarray:
@@ -343,8 +347,7 @@ class System:
 
     def _solve_ic(self) -> None:
         opts = self.model.options
-        L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
-                            self.layout.seabed, self.work)
+        L, R, P, E, B, W = self._kernel_arrays()
         if opts.ICgenDynamic:
             ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), self.scheme_params, opts.dtIC,
                                               opts.TmaxIC, opts.threshIC, opts.CdScaleIC, L, R, P, E, B,
@@ -423,8 +426,7 @@ class System:
 
     def _advance(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
-        L, R, P, E, B, W = (self.layout.lines, self.layout.rods, self.layout.points, self.layout.env,
-                            self.layout.seabed, self.work)
+        L, R, P, E, B, W = self._kernel_arrays()
         last_stage = self.loads_at == "last_stage"
         t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P,
                                    E, B, motion, W, 1.0, self._S, MAX_NODE_SPEED, not last_stage)

@@ -180,10 +180,10 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, False)
+        # final_eval: the Work arrays then hold the loads of the state at t1
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, True)
         if bad >= 0:
             return False, t, bad
-        rhs(t, y, S[0], L, R, P, E, B, Mo, W, cd_scale, -1)
         _fairlead_tensions(L, W, ten)
         for k in range(nwin - 1):
             for li in range(nl):

@@ -34,6 +34,7 @@ from ..errors import DeckError
 from ..model import (
     CONTACT_MODES,
     FRICTION_MODELS,
+    POINT_KIND_WORDS,
     Attachment,
     Curve,
     Line,
@@ -150,19 +151,13 @@ def _ei(tok, rd):
     return rd.number_or_curve(tok, "EI", "a number >= 0", lambda v: v >= 0)
 
 
-_POINT_WORDS = {
-    "ANCHOR": PointKind.FIXED, "FIXED": PointKind.FIXED, "FIX": PointKind.FIXED,
-    "FAIRLEAD": PointKind.COUPLED, "VESSEL": PointKind.COUPLED, "VES": PointKind.COUPLED,
-    "COUPLED": PointKind.COUPLED, "CPLD": PointKind.COUPLED,
-    "POINT": PointKind.FREE, "CONNECT": PointKind.FREE, "CON": PointKind.FREE, "FREE": PointKind.FREE,
-}
 _POINT_KIND_TEXT = "Fixed/Anchor/Fix, Coupled/Vessel/Ves/Cpld/Fairlead or Free/Point/Connect/Con"
 
 
 def _point_kind(tok, rd=None):
     up = tok.upper()
-    if up in _POINT_WORDS:
-        return _POINT_WORDS[up]
+    if up in POINT_KIND_WORDS:
+        return POINT_KIND_WORDS[up]
     if re.fullmatch(r"BODY\d+", up):
         raise _Bad(f"{tok!r}: bodies are not supported yet (points fixed to a body come with the cable "
                    "work)", plain=True)

@@ -4,6 +4,7 @@ from .system import Model
 from .types import (
     CONTACT_MODES,
     FRICTION_MODELS,
+    POINT_KIND_WORDS,
     Attachment,
     Bathymetry,
     Curve,
@@ -19,5 +20,6 @@ from .types import (
     RodType,
 )
 
-__all__ = ["CONTACT_MODES", "FRICTION_MODELS", "Attachment", "Bathymetry", "Curve", "Environment", "Line",
-           "LineType", "Model", "ModelError", "Options", "Point", "PointKind", "Rod", "RodKind", "RodType"]
+__all__ = ["CONTACT_MODES", "FRICTION_MODELS", "POINT_KIND_WORDS", "Attachment", "Bathymetry", "Curve",
+           "Environment", "Line", "LineType", "Model", "ModelError", "Options", "Point", "PointKind", "Rod", "RodKind",
+           "RodType"]

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .types import (
+    POINT_KIND_WORDS,
     Attachment,
     Curve,
     Environment,
@@ -32,16 +33,6 @@ from .types import (
     RodKind,
     RodType,
 )
-
-_KIND_WORDS = {
-    "fixed": PointKind.FIXED,
-    "anchor": PointKind.FIXED,
-    "coupled": PointKind.COUPLED,
-    "vessel": PointKind.COUPLED,
-    "fairlead": PointKind.COUPLED,
-    "free": PointKind.FREE,
-    "connect": PointKind.FREE,
-}
 
 
 @dataclass
@@ -96,9 +87,10 @@ class Model:
         """
         if isinstance(kind, str):
             try:
-                kind = _KIND_WORDS[kind.lower()]
+                kind = POINT_KIND_WORDS[kind.upper()]
             except KeyError:
-                raise ModelError(f"unknown point kind {kind!r}; expected one of {sorted(_KIND_WORDS)}") from None
+                words = sorted(w.lower() for w in POINT_KIND_WORDS)
+                raise ModelError(f"unknown point kind {kind!r}; expected one of {words}") from None
         self.points.append(Point(PointKind(kind), r, float(m), float(V), float(CdA), float(Ca), F_ext))
         return Attachment("point", len(self.points) - 1)
 

@@ -131,6 +131,15 @@ class PointKind(IntEnum):
     BODY = 3
 
 
+#: point attachment words of MoorDyn decks (upper case) and the kind each means
+POINT_KIND_WORDS = {
+    "ANCHOR": PointKind.FIXED, "FIXED": PointKind.FIXED, "FIX": PointKind.FIXED,
+    "FAIRLEAD": PointKind.COUPLED, "VESSEL": PointKind.COUPLED, "VES": PointKind.COUPLED,
+    "COUPLED": PointKind.COUPLED, "CPLD": PointKind.COUPLED,
+    "POINT": PointKind.FREE, "CONNECT": PointKind.FREE, "CON": PointKind.FREE, "FREE": PointKind.FREE,
+}
+
+
 @dataclass
 class Point:
     """A point: anchor, fairlead, clump weight, buoy or line junction (one row of POINTS).
