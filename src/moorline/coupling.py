@@ -27,7 +27,7 @@ from .core.rhs import rhs
 from .core.stability import choose_dtM, stability_report
 from .core.statics import catenary_start, dynamic_relaxation, stationary_solve
 from .errors import SimulationError
-from .model import Model
+from .model import BodyKind, Model, RodKind, angles_xyz
 
 log = logging.getLogger("moorline")
 
@@ -191,6 +191,157 @@ class PointView:
         return self._s.work.pF[self.index].copy()
 
 
+def _quat_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Unit quaternion (w, x, y, z) of the smallest rotation taking unit vector a to b."""
+    a = a / np.linalg.norm(a)
+    b = b / np.linalg.norm(b)
+    c = float(np.dot(a, b))
+    if c < -1.0 + 1e-12:  # opposite: half a turn about any axis normal to a
+        n = np.cross(a, [1.0, 0.0, 0.0])
+        if np.linalg.norm(n) < 1e-6:
+            n = np.cross(a, [0.0, 1.0, 0.0])
+        n /= np.linalg.norm(n)
+        return np.array([0.0, *n])
+    q = np.array([1.0 + c, *np.cross(a, b)])
+    return q / np.linalg.norm(q)
+
+
+class RodView:
+    """Read access to one rod of a running :class:`System` (values of the last evaluation)."""
+
+    def __init__(self, system: System, index: int):
+        self._s = system
+        self.index = index
+        ptr = system.layout.rigid.rod_node_ptr
+        self._n = slice(int(ptr[index]), int(ptr[index + 1]))
+
+    @property
+    def number(self) -> int:
+        return self.index + 1
+
+    @property
+    def kind(self):
+        return self._s.model.rods[self.index].kind
+
+    def node_positions(self) -> np.ndarray:
+        """Node positions [m], shape (N+1, 3) (one node for a zero-length rod)."""
+        return self._s.work.rn_r[self._n].copy()
+
+    def node_velocities(self) -> np.ndarray:
+        return self._s.work.rn_v[self._n].copy()
+
+    def node_forces(self) -> np.ndarray:
+        """Net force on each node [N] incl. the attached line ends, shape (N+1, 3)."""
+        return self._s.work.rn_F[self._n, 8].copy()
+
+    def node_force_components(self) -> dict[str, np.ndarray]:
+        """Node loads by kind [N], each (N+1, 3): weight, buoyancy, transverse and axial drag,
+        transverse and axial fluid inertia, dynamic pressure, seabed."""
+        names = ("weight", "buoyancy", "drag_transverse", "drag_axial", "inertia_transverse", "inertia_axial",
+                 "dynamic_pressure", "seabed")
+        F = self._s.work.rn_F[self._n]
+        return {k: F[:, i].copy() for i, k in enumerate(names)}
+
+    def end_positions(self) -> np.ndarray:
+        """Positions of ends A and B [m], shape (2, 3)."""
+        return self._s.work.rodr[self.index].copy()
+
+    def axis(self) -> np.ndarray:
+        """Unit vector from end A to end B."""
+        return self._s.work.rodq[self.index].copy()
+
+    def angular_velocity(self) -> np.ndarray:
+        """Angular velocity [rad/s], global axes."""
+        return self._s.work.rodw[self.index].copy()
+
+    def inclination(self) -> tuple[float, float]:
+        """(phi, beta) [rad]: angle of the axis from vertical (0 = pointing up) and its heading."""
+        q = self.axis()
+        h = math.hypot(q[0], q[1])
+        return math.atan2(h, q[2]), (math.atan2(q[1], q[0]) if h >= 1e-6 else 0.0)
+
+    def roll_pitch(self) -> tuple[float, float]:
+        """MoorDyn's rod roll and pitch [rad]: -phi sin(beta), phi cos(beta) (spec 3.14.1)."""
+        phi, beta = self.inclination()
+        return -phi * math.sin(beta), phi * math.cos(beta)
+
+    def velocity(self) -> np.ndarray:
+        """End-A velocity [m/s]."""
+        return self._s.work.rodv[self.index, 0].copy()
+
+    def acceleration(self) -> np.ndarray:
+        """(a_A, alpha) [m/s^2, rad/s^2], shape (6,) (zero for rods without degrees of freedom,
+        the imposed end-A acceleration for coupled-pinned rods)."""
+        return self._s.work.rodacc[self.index].copy()
+
+    def submergence(self) -> float:
+        """Mean submerged fraction of the rod's nodes [-]."""
+        return float(np.mean(self._s.work.rn_vof[self._n]))
+
+    def force(self) -> np.ndarray:
+        """Net force and moment about end A [N, N m], shape (6,) (coupled rods: minus M a_in)."""
+        return self._s.work.rod6F[self.index].copy()
+
+    def mass_matrix(self) -> np.ndarray:
+        """6x6 mass matrix about end A, global axes."""
+        return self._s.work.rod6M[self.index].copy()
+
+    def end_tensions(self) -> np.ndarray:
+        """|sum of the line end forces| at ends A and B [N] (MoorDyn's TenA, TenB)."""
+        return np.linalg.norm(self._s.work.rodF[self.index], axis=1)
+
+
+class BodyView:
+    """Read access to one body of a running :class:`System`."""
+
+    def __init__(self, system: System, index: int):
+        self._s = system
+        self.index = index
+
+    @property
+    def number(self) -> int:
+        return self.index + 1
+
+    @property
+    def kind(self):
+        return self._s.model.bodies[self.index].kind
+
+    def position(self) -> np.ndarray:
+        """Reference-point position [m]."""
+        return self._s.work.br[self.index].copy()
+
+    def rotation_matrix(self) -> np.ndarray:
+        """Rotation from body to global axes, shape (3, 3)."""
+        return self._s.work.bR[self.index].copy()
+
+    def angles(self) -> np.ndarray:
+        """Roll, pitch, yaw [rad] (R = Rx(roll) Ry(pitch) Rz(yaw), pitch in [-pi/2, pi/2])."""
+        return angles_xyz(self._s.work.bR[self.index])
+
+    def pose(self) -> np.ndarray:
+        """(x, y, z, roll, pitch, yaw) [m, rad]."""
+        return np.concatenate([self.position(), self.angles()])
+
+    def velocity(self) -> np.ndarray:
+        return self._s.work.bv[self.index].copy()
+
+    def angular_velocity(self) -> np.ndarray:
+        """[rad/s], global axes."""
+        return self._s.work.bw[self.index].copy()
+
+    def acceleration(self) -> np.ndarray:
+        """(a, alpha) of the reference point [m/s^2, rad/s^2], shape (6,)."""
+        return self._s.work.bacc[self.index].copy()
+
+    def force(self) -> np.ndarray:
+        """Net force and moment about the reference point [N, N m], shape (6,) (coupled bodies:
+        the load returned to the caller, F6 - M a_in)."""
+        return self._s.work.b6F[self.index].copy()
+
+    def mass_matrix(self) -> np.ndarray:
+        return self._s.work.b6M[self.index].copy()
+
+
 class System:
     """A mooring system ready to integrate.
 
@@ -233,6 +384,8 @@ class System:
         self._motion = static_motion(self.deck_coupled_positions())
         self.lines = [LineView(self, i) for i in range(len(model.lines))]
         self.points = [PointView(self, i) for i in range(len(model.points))]
+        self.rods = [RodView(self, i) for i in range(len(model.rods))]
+        self.bodies = [BodyView(self, i) for i in range(len(model.bodies))]
         self.initialized = False
         self._grid_warned = False
         self.ic_report: dict = {}
@@ -247,19 +400,38 @@ class System:
     # ------------------------------------------------------------------ coupled DOFs
     @property
     def n_coupled_dof(self) -> int:
-        """Number of coupled degrees of freedom (3 per coupled point)."""
+        """Number of coupled degrees of freedom: 6 per coupled body or rod (x, y, z, roll, pitch,
+        yaw), 3 per coupled-pinned body or rod and per coupled point."""
         return self.layout.n_coupled_dof
 
     @property
     def coupled_dof_labels(self) -> list[str]:
-        """Labels of the coupled DOFs in order, e.g. ``['P4_x', 'P4_y', 'P4_z', ...]``."""
-        return [f"P{p + 1}_{c}" for p in self.layout.coupled_points for c in "xyz"]
+        """Labels of the coupled DOFs in order (bodies, rods, points), e.g. ``['B1_x', ..., 'B1_yaw',
+        'P4_x', ...]``."""
+        labels = []
+        six = ("x", "y", "z", "roll", "pitch", "yaw")
+        for i in self.layout.coupled_bodies:
+            n = 6 if self.layout.rigid.body_kind[i] == int(BodyKind.COUPLED) else 3
+            labels += [f"B{i + 1}_{c}" for c in six[:n]]
+        for k in self.layout.coupled_rods:
+            n = 6 if self.layout.rigid.rod_kind[k] == int(RodKind.COUPLED) else 3
+            labels += [f"R{k + 1}_{c}" for c in six[:n]]
+        labels += [f"P{p + 1}_{c}" for p in self.layout.coupled_points for c in "xyz"]
+        return labels
 
     def deck_coupled_positions(self) -> np.ndarray:
-        """Coupled DOF vector with every coupled object where the deck puts it."""
+        """Coupled DOF vector with every coupled object where the deck puts it (angles [rad])."""
+        out = []
+        m = self.model
+        for i in self.layout.coupled_bodies:
+            b = m.bodies[i]
+            out.append(np.concatenate([b.r, np.radians(b.angles)]) if b.kind == BodyKind.COUPLED else b.r)
+        for k in self.layout.coupled_rods:
+            rod = m.rods[k]
+            out.append(np.concatenate([rod.rA, np.zeros(3)]) if rod.kind == RodKind.COUPLED else rod.rA)
         P = self.layout.points
-        return np.concatenate([P.r0[p] for p in self.layout.coupled_points]) if self.layout.coupled_points \
-            else np.zeros(0)
+        out += [P.r0[p] for p in self.layout.coupled_points]
+        return np.concatenate(out) if out else np.zeros(0)
 
     def _check_dof(self, x, name):
         if x is None:
@@ -274,7 +446,7 @@ class System:
     def _kernel_arrays(self):
         """(lines, rods, points, env, seabed, work): what every kernel call takes."""
         lay = self.layout
-        return lay.lines, lay.rods, lay.points, lay.env, lay.seabed, self.work
+        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work
 
     def _evaluate(self, piece: int = -1) -> None:
         """Evaluate every load at the current state and time (refreshes what the views report).
@@ -285,10 +457,19 @@ class System:
         rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, 1.0, piece)
 
     def coupled_forces(self) -> np.ndarray:
-        """Loads of the mooring system on the coupled DOFs [N], in coupled-DOF order."""
-        if not self.layout.coupled_points:
+        """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
+        of coupled bodies and rods (3 forces when pinned), the net force of coupled points."""
+        lay = self.layout
+        if lay.n_coupled_dof == 0:
             return np.zeros(0)
-        return np.concatenate([self.work.pF[p] for p in self.layout.coupled_points])
+        W = self.work
+        out = []
+        for i in lay.coupled_bodies:
+            out.append(W.b6F[i, :6 if lay.rigid.body_kind[i] == int(BodyKind.COUPLED) else 3])
+        for k in lay.coupled_rods:
+            out.append(W.rod6F[k, :6 if lay.rigid.rod_kind[k] == int(RodKind.COUPLED) else 3])
+        out += [W.pF[p] for p in lay.coupled_points]
+        return np.concatenate(out)
 
     # ------------------------------------------------------------------ init
     def init(self, x=None, xd=None, *, solve_ic: bool = True) -> np.ndarray:
@@ -315,13 +496,13 @@ class System:
         self._motion = static_motion(x)
         B = self.layout.seabed
         B.ctl[:] = 0  # stick-slip friction is off while the initial conditions are found
-        failed = catenary_start(self.layout, x, self.y)
+        failed = catenary_start(self.layout, x, self.y, self.work)
         for li, status in failed:
             log.warning("line %d: catenary solve unsuccessful (%s); starting from the straight chord", li + 1,
                         CatenaryStatus(status).name.lower())
         self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
-        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows > 0:
+        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
             self._solve_ic()
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
@@ -356,7 +537,7 @@ class System:
                 raise self._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
             self.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))
         else:
-            seg_min = float(np.min(L.seg_l0))
+            seg_min = float(np.min(L.seg_l0)) if L.seg_l0.size else 1.0
             cfl_ic = min(float(opts.CFL), 1.0)
             status, tic, emean, it = stationary_solve(self.y, self.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
                                                       cfl_ic, seg_min, L, R, P, E, B, self._motion, W, self._S)
@@ -442,16 +623,28 @@ class System:
 
     # ------------------------------------------------------------------ state access
     def state_rows(self) -> list[tuple[str, int, int]]:
-        """What each 3-vector state row is: ``('line', line number, node)`` or ``('point', number, 0)``."""
-        rows: list[tuple[str, int, int]] = [("", 0, 0)] * self.layout.n_rows
-        L = self.layout.lines
+        """What each state row is: ``('line', line number, node)``, ``('point', number, 0)``,
+        ``('rod', number, 0)`` for the 3-DOF rows, then ``('rod', number, 0)`` or
+        ``('body', number, 0)`` for each 6-DOF block (numbered after the rows)."""
+        lay = self.layout
+        rows: list[tuple[str, int, int]] = [("", 0, 0)] * (lay.n_rows + lay.n_blocks)
+        L = lay.lines
         for li in range(len(self.lines)):
             for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
                 rows[int(L.node_row[n])] = ("line", li + 1, n - int(L.node_ptr[li]))
-        P = self.layout.points
+        P = lay.points
         for p in range(len(P.kind)):
             if P.kind[p] == P_FREE:
                 rows[int(P.row[p])] = ("point", p + 1, 0)
+        R = lay.rigid
+        for k in range(len(R.rod_kind)):
+            if R.rod_row[k] >= 0:
+                rows[int(R.rod_row[k])] = ("rod", k + 1, 0)
+            if R.rod_blk[k] >= 0:
+                rows[lay.n_rows + int(R.rod_blk[k])] = ("rod", k + 1, 0)
+        for i in range(len(R.body_kind)):
+            if R.body_blk[i] >= 0:
+                rows[lay.n_rows + int(R.body_blk[i])] = ("body", i + 1, 0)
         return rows
 
     def set_state(self, line_positions=None, line_velocities=None, point_positions=None,
@@ -460,8 +653,8 @@ class System:
         ends ignored) and free point positions/velocities ((n_points, 3), non-free rows ignored).
         Used to start from another program's initial state."""
         L = self.layout.lines
-        nr = self.layout.n_rows
-        for arrs, off in ((line_positions, 0), (line_velocities, 3 * nr)):
+        uoff = self.layout.u_offset
+        for arrs, off in ((line_positions, 0), (line_velocities, uoff)):
             if arrs is None:
                 continue
             for li, a in enumerate(arrs):
@@ -470,7 +663,7 @@ class System:
                     row = int(L.node_row[n])
                     self.y[off + 3 * row: off + 3 * row + 3] = a[n - int(L.node_ptr[li])]
         P = self.layout.points
-        for arr, off in ((point_positions, 0), (point_velocities, 3 * nr)):
+        for arr, off in ((point_positions, 0), (point_velocities, uoff)):
             if arr is None:
                 continue
             arr = np.asarray(arr, dtype=float)
@@ -487,15 +680,73 @@ class System:
             B.slip[...] = 0.0
             self._evaluate()
 
+    def set_rod_state(self, k: int, *, end_a=None, axis=None, velocity=None, angular_velocity=None) -> None:
+        """Overwrite the state of rod ``k`` (0-based): end-A position [m] and velocity [m/s] of a
+        free rod, axis (unit vector A to B; the quaternion becomes the smallest rotation from the
+        deck axis) and angular velocity [rad/s] of a free or pinned rod. Values a rod's kind does
+        not hold in its state are ignored."""
+        lay = self.layout
+        R = lay.rigid
+        j = int(R.rod_blk[k])
+        if j >= 0:
+            q, u = lay.block_slices(j)
+            free = R.rod_kind[k] == int(RodKind.FREE)
+            if end_a is not None and free:
+                self.y[q.start:q.start + 3] = end_a
+            if axis is not None:
+                self.y[q.start + 3:q.stop] = _quat_between(R.rod_qref[k], np.asarray(axis, dtype=float))
+            if velocity is not None and free:
+                self.y[u.start:u.start + 3] = velocity
+            if angular_velocity is not None:
+                self.y[u.start + 3:u.stop] = angular_velocity
+        elif R.rod_row[k] >= 0:
+            o = 3 * int(R.rod_row[k])
+            if end_a is not None:
+                self.y[o:o + 3] = end_a
+            if velocity is not None:
+                self.y[lay.u_offset + o:lay.u_offset + o + 3] = velocity
+        self._restart()
+
+    def set_body_state(self, i: int, *, position=None, angles=None, velocity=None, angular_velocity=None) -> None:
+        """Overwrite the state of body ``i`` (0-based; free or coupled-pinned): reference-point
+        position [m] and velocity [m/s] (free bodies), roll, pitch, yaw [rad] (Rx Ry Rz) and angular
+        velocity [rad/s]."""
+        from .core.layout import quat_from_matrix
+        from .model import rotation_xyz
+
+        lay = self.layout
+        j = int(lay.rigid.body_blk[i])
+        if j < 0:
+            return
+        q, u = lay.block_slices(j)
+        free = lay.rigid.body_kind[i] == int(BodyKind.FREE)
+        if position is not None and free:
+            self.y[q.start:q.start + 3] = position
+        if angles is not None:
+            self.y[q.start + 3:q.stop] = quat_from_matrix(rotation_xyz(angles))
+        if velocity is not None and free:
+            self.y[u.start:u.start + 3] = velocity
+        if angular_velocity is not None:
+            self.y[u.start + 3:u.stop] = angular_velocity
+        self._restart()
+
+    def _restart(self) -> None:
+        self._S[...] = 0.0
+        if self.initialized:
+            self._evaluate()
+
     def _instability(self, t: float, row: int, context: str) -> SimulationError:
         what, num, node = self.state_rows()[row]
-        nr = self.layout.n_rows
-        v = self.y[3 * nr + 3 * row: 3 * nr + 3 * row + 3]
+        lay = self.layout
+        if row < lay.n_rows:
+            v = self.y[lay.u_offset + 3 * row: lay.u_offset + 3 * row + 3]
+        else:
+            v = self.y[lay.block_slices(row - lay.n_rows)[1]][:3]
         speed = float(np.linalg.norm(v)) if np.all(np.isfinite(v)) else math.nan
         _, limit, _ = stability_report(self.model, self.layout, self.dtM, self.scheme, self._lines_on_seabed(),
                                        self.scheme_label)
         suggest = min(0.5 * self.dtM, 0.8 * limit)
-        where = f"line {num} node {node}" if what == "line" else f"point {num}"
+        where = f"line {num} node {node}" if what == "line" else f"{what} {num}"
         reason = "non-finite state" if not math.isfinite(speed) else f"speed {speed:.3g} m/s > {MAX_NODE_SPEED} m/s"
         msg = (f"simulation unstable at t = {t:.6g} s {context}: {where}: {reason}. "
                f"dtM = {self.dtM:.4g} s with {self.scheme_label}; try dtM <= {suggest:.3g} s")

@@ -59,7 +59,8 @@ class Recorder:
         self.data: dict[str, list] = {k: [] for k in (
             "node_position", "node_velocity", "node_tension", "node_curvature", "segment_tension",
             "segment_strain", "line_tension_a", "line_tension_b", "point_position", "point_velocity",
-            "point_force", "coupled_position", "coupled_force")}
+            "point_force", "coupled_position", "coupled_force", "rod_end_position", "rod_force", "body_pose",
+            "body_velocity", "body_force")}
 
     def record(self) -> None:
         s = self.system
@@ -80,6 +81,13 @@ class Recorder:
         d["point_force"].append(w.pF.copy())
         d["coupled_position"].append(w.xc.copy())
         d["coupled_force"].append(s.coupled_forces())
+        if s.rods:
+            d["rod_end_position"].append(w.rodr.copy())
+            d["rod_force"].append(w.rod6F.copy())
+        if s.bodies:
+            d["body_pose"].append(np.array([b.pose() for b in s.bodies]))
+            d["body_velocity"].append(np.concatenate([w.bv, w.bw], axis=1))
+            d["body_force"].append(w.b6F.copy())
 
     def to_dataset(self) -> xr.Dataset:
         s = self.system
@@ -111,6 +119,13 @@ class Recorder:
         add("point_position", ("point", "xyz"), {"units": "m"})
         add("point_velocity", ("point", "xyz"), {"units": "m/s"})
         add("point_force", ("point", "xyz"), {"units": "N", "long_name": "net force on the point"})
+        add("rod_end_position", ("rod", "rod_end", "xyz"), {"units": "m", "long_name": "rod end positions"})
+        add("rod_force", ("rod", "dof6"), {"units": "N, N m", "long_name": "net force and moment about end A"})
+        add("body_pose", ("body", "pose"), {"units": "m, rad", "long_name": "reference point and roll, pitch, yaw "
+                                            "(R = Rx Ry Rz)"})
+        add("body_velocity", ("body", "dof6"), {"units": "m/s, rad/s", "long_name": "velocity and angular velocity"})
+        add("body_force", ("body", "dof6"), {"units": "N, N m", "long_name": "net force and moment about the "
+                                             "reference point"})
         if s.n_coupled_dof:
             add("coupled_position", ("dof",), {"units": "m"})
             add("coupled_force", ("dof",), {"units": "N", "long_name": "load of the mooring on the coupled DOF"})
@@ -130,6 +145,14 @@ class Recorder:
         }
         if s.n_coupled_dof:
             coords["dof"] = ("dof", s.coupled_dof_labels)
+        if s.rods:
+            coords["rod"] = ("rod", np.arange(1, len(s.rods) + 1))
+            coords["rod_end"] = ("rod_end", ["A", "B"])
+        if s.rods or s.bodies:
+            coords["dof6"] = ("dof6", ["x", "y", "z", "rx", "ry", "rz"])
+        if s.bodies:
+            coords["body"] = ("body", np.arange(1, len(s.bodies) + 1))
+            coords["pose"] = ("pose", ["x", "y", "z", "roll", "pitch", "yaw"])
         opts = asdict(s.model.options)
         attrs = {
             "title": f"moorline simulation of {s.model.source.name if s.model.source else 'a Python-built model'}",

@@ -80,13 +80,38 @@ def initial_rows(system: System) -> list[list]:
     for p in system.points:
         f = p.force()
         rows.append(["point", p.number, 0, *p.position(), *p.velocity(), *f, np.linalg.norm(f), ""] + [""] * 6)
-    w = system.work
-    for k, rod in enumerate(system.model.rods):
-        a, b = w.rodr[k, 0], w.rodr[k, 1]
-        for j in range(rod.N + 1):
-            f = j / rod.N if rod.N else 0.0
-            rows.append(["rod", k + 1, j, *(a + f * (b - a)), *np.zeros(3)] + [""] * 11)
+    for rod in system.rods:
+        r = rod.node_positions()
+        v = rod.node_velocities()
+        for j in range(len(r)):
+            rows.append(["rod", rod.number, j, *r[j], *v[j]] + [""] * 11)
+    for b in system.bodies:
+        rows.append(["body", b.number, 0, *b.position(), *b.velocity()] + [""] * 5 + [*b.angles(),
+                                                                                    *b.angular_velocity()])
     return rows
+
+
+def set_rigid_initial_state(system: System, path: Path) -> None:
+    """Rod and body states from a corpus ``<case>_initial.csv`` (rod end nodes give end A and the
+    axis; bodies their position, Euler XYZ angles and velocities)."""
+    ref = gen_reference().read_initial(str(path))
+
+    def vec(row, cols):
+        return np.array([float(row[c]) for c in cols])
+
+    for i in range(len(system.bodies)):
+        r = ref[("body", i + 1, 0)]
+        system.set_body_state(i, position=vec(r, "xyz"), angles=vec(r, ("rx", "ry", "rz")),
+                              velocity=vec(r, ("vx", "vy", "vz")), angular_velocity=vec(r, ("wx", "wy", "wz")))
+    for k, rod in enumerate(system.model.rods):
+        a = ref[("rod", k + 1, 0)]
+        pa = vec(a, "xyz")
+        axis = None
+        if rod.N > 0:
+            # from node 1, not node N: MoorDyn reports the end-B node of a free rod wrongly at t = 0
+            pb = vec(ref[("rod", k + 1, 1)], "xyz")
+            axis = (pb - pa) / np.linalg.norm(pb - pa)
+        system.set_rod_state(k, end_a=pa, axis=axis, velocity=vec(a, ("vx", "vy", "vz")))
 
 
 def write_initial(system: System, path: Path) -> None:
@@ -130,6 +155,12 @@ def channels(system: System, spec: dict, coupled_force: list) -> list[tuple[list
         pt = system.points[i - 1]
         ch.append(([f"P{i}_Fx", f"P{i}_Fy", f"P{i}_Fz", f"P{i}_F"],
                     lambda pt=pt: (*pt.force(), np.linalg.norm(pt.force()))))
+    for i in gr._ids(out_spec.get("rods"), len(system.rods)):
+        rod = system.rods[i - 1]
+        ch.append(([f"R{i}_{e}_{c}" for e in "AB" for c in "xyz"], lambda rod=rod: rod.end_positions().ravel()))
+    for i in gr._ids(out_spec.get("bodies"), len(system.bodies)):
+        b = system.bodies[i - 1]
+        ch.append(([f"B{i}_{c}" for c in ("x", "y", "z", "rx", "ry", "rz")], b.pose))
     if out_spec.get("coupled_forces") and system.n_coupled_dof:
         ch.append((["Fc_" + lab for lab in system.coupled_dof_labels], lambda: coupled_force[0]))
     return ch
@@ -168,6 +199,8 @@ def run_case(name: str, *, own_ic: bool = False, out_dir: Path | None = None, en
         system.init(Xf(0.0), np.zeros(system.n_coupled_dof), solve_ic=False)
         lp, lv, pp, pv = read_initial_state(system, CONF / "reference" / f"{name}_initial.csv")
         system.set_state(lp, lv, pp, pv)
+        if system.rods or system.bodies:
+            set_rigid_initial_state(system, CONF / "reference" / f"{name}_initial.csv")
     t_init = time.perf_counter() - t0
 
     out_dir = Path(out_dir or ROOT / "out" / "conformance")

@@ -22,7 +22,13 @@ Bending stiffness (``beam_cantilever_*``): a cable clamped to a fixed rod. With 
 MoorDyn reports zero curvature before its first step (a quirk the corpus README documents for
 tensions); the release case's curvature group therefore starts at the first step.
 
-The cases with free rods, bodies, waves and currents belong to later work and are not run here.
+Rods and bodies (``rod_free_added_mass``, ``bodies_and_rods``): the dynamics start from MoorDyn's
+initial state of lines, points, rods (end A and the axis, from nodes 0 and 1: MoorDyn reports a free
+rod's end-B node wrongly at t = 0) and bodies (position, Euler XYZ angles, velocities).
+``bodies_and_rods``'s "initial state" is not an equilibrium (its IC did not converge), so only the
+dynamics from MoorDyn's state are compared.
+
+The cases with waves and currents belong to later work and are not run here.
 """
 
 from __future__ import annotations
@@ -51,11 +57,14 @@ LINE_POINT_CASES = [
     "lowe_langley_case1",
     "lowe_langley_case2",
     "lowe_langley_case3",
+    "rod_free_added_mass",
+    "bodies_and_rods",
 ]
 
 #: own-IC checks: not the pendulum (no equilibrium), not the released beam (no IC solve)
 OWN_IC_CASES = [c for c in LINE_POINT_CASES if c not in ("pendulum_point_mass", "beam_cantilever_release",
-                                                        "lowe_langley_case2", "lowe_langley_case3")]  # one IC
+                                                        "lowe_langley_case2", "lowe_langley_case3",  # one IC
+                                                        "bodies_and_rods", "rod_free_added_mass")]
 
 #: Lowe & Langley (OMAE 2006) measured top tension: MoorDyn's own test allows 1 kN; MoorDyn 2.7.2
 #: reaches 0.53 / 0.33 / 0.81 kN (manifest.json). moorline must do as well (within 1 %).

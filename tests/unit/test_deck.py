@@ -11,7 +11,7 @@ import pytest
 from moorline.errors import DeckError
 from moorline.io import read_curve, read_deck, read_deck_text, write_deck
 from moorline.io.lexer import lex, parse_number, parse_whole, section_name, tokenize
-from moorline.model import Attachment, Bathymetry, Curve, Model, PointKind
+from moorline.model import Attachment, Bathymetry, BodyKind, Curve, Model, PointKind, RodKind
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared"
 INPUTS = SHARED / "conformance" / "inputs"
@@ -169,25 +169,34 @@ def test_bridle_clump_buoy_values():
     assert m.lines[4].end_a == Attachment("point", 3) and m.lines[4].end_b == Attachment("point", 5)
 
 
-def test_bodies_deck_rejected_naming_the_section():
-    path = conformance_deck("bodies_and_rods/BodiesAndRods.dat")
-    with pytest.raises(DeckError) as ei:
-        read_deck(path)
-    msg = str(ei.value)
-    assert "BodiesAndRods.dat" in msg
-    assert "section BODIES" in msg and "not supported yet" in msg
-    assert ei.value.line == 12  # the BODIES header
+def test_bodies_and_rods_deck_values():
+    m = read_deck(conformance_deck("bodies_and_rods/BodiesAndRods.dat"))
+    (b,) = m.bodies
+    assert b.kind == BodyKind.FREE and b.m == 1e6 and np.allclose(b.I, 1e10) and np.allclose(b.rCG, 0.0)
+    assert [r.kind for r in m.rods] == [RodKind.BODY, RodKind.BODY_PINNED] and [r.body for r in m.rods] == [0, 0]
+    assert m.points[0].kind == PointKind.BODY and m.points[0].body == 0
+    # rod ends and body points are given in body axes; the body sits at the origin unrotated
+    assert np.allclose(m.rod_ends(1)[1], (5.0, 0.0, 15.0))
+    assert np.allclose(m.point_position(9), (0.0, 0.0, 0.0))
 
 
-def test_free_rod_rejected_at_its_row():
+def test_body_columns_cg_inertia_cda_lists():
+    text = ("---- BODIES ----\nID Att X Y Z r p y M CG I V CdA Ca\n(-) (-) (m) (m) (m) (deg) (deg) (deg) (kg) (m) "
+            "(kg-m2) (m3) (m2) (-)\n1 coupled 1 2 3 0 0 90 5e3 0|0|-2 1|2|3 4 5|6 0.5|0.6|0.7\n"
+            "2 free 0 0 0 10 0 0 1e4 -1 7 8 1|2|3 0.2\n")
     rods = ("---- ROD TYPES ----\nName Diam Mass Cd Ca CdEnd CaEnd\n(-) (m) (kg/m) (-) (-) (-) (-)\n"
             "can 0.5 50 0.6 1.0 0.5 1.0\n---- RODS ----\nID Type Att Xa Ya Za Xb Yb Zb N Out\n"
-            "(#) (-) (-) (m) (m) (m) (m) (m) (m) (-) (-)\n1 can Free 0 0 -10 0 0 -5 4 -\n")
-    text = SMALL.replace("------------------------ POINTS", rods + "------------------------ POINTS", 1)
-    assert rods in text
-    with pytest.raises(DeckError, match="rod 1: free rods are not supported yet") as ei:
-        read_deck_text(text, path="r.txt")
-    assert ei.value.row is not None and "can Free" in ei.value.row
+            "(#) (-) (-) (m) (m) (m) (m) (m) (m) (-) (-)\n1 can Body2Pin 0 0 -1 0 0 -5 4 p\n"
+            "2 can free 0 0 -10 0 0 -5 4 -\n")
+    deck = SMALL.replace("------------------------ POINTS", text + rods + "------------------------ POINTS", 1)
+    m = read_deck_text(deck, path="b.txt")
+    b1, b2 = m.bodies
+    assert b1.kind == BodyKind.COUPLED and np.allclose(b1.rCG, (0, 0, -2)) and np.allclose(b1.I, (1, 2, 3))
+    assert np.allclose(b1.CdA, (5, 5, 5, 6, 6, 6)) and np.allclose(b1.Ca, (0.5, 0.6, 0.7))
+    assert b2.kind == BodyKind.FREE and np.allclose(b2.rCG, (0, 0, -1)) and np.allclose(b2.I, 7)
+    assert np.allclose(b2.CdA, (1, 2, 3, 1, 2, 3)) and np.allclose(b2.angles, (10, 0, 0))
+    assert m.rods[0].kind == RodKind.BODY_PINNED and m.rods[0].body == 1 and m.rods[1].kind == RodKind.FREE
+    assert m.n_coupled_dof == 6 + 3 * len(m.coupled_points)
 
 
 def test_fixed_rod_and_clamped_line():

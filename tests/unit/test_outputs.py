@@ -561,3 +561,73 @@ def test_headers_identical_to_moordyn(tmp_path):
     b = np.loadtxt(ml_dir / "t.out", skiprows=2)
     np.testing.assert_allclose(b[:, 1:6], a[:, 1:6], rtol=1e-3)   # tensions of a static line
     shutil.rmtree(md_dir)
+
+
+# ------------------------------------------------------------------------------------------ rods and bodies
+
+def build_rigid_model() -> Model:
+    """A free body (rotated 30 deg in yaw) carrying a body point, a body-fixed rod through the
+    surface with output flags, and a slack line from the body point to an anchor."""
+    m = Model(env=Environment(depth=100.0))
+    m.add_line_type("rope", d=0.1, w=10.0, EA=1e7, BA=-0.5, Cd=1.2, Ca=1.0, CdAx=0.1, CaAx=0.0)
+    m.add_rod_type("can", d=1.0, w=200.0, Cd=0.8, Ca=1.0, CdEnd=0.6, CaEnd=0.5)
+    b = m.add_body("free", (0.0, 0.0, -5.0), (0.0, 0.0, 30.0), m=5e3, I=(1e4, 1e4, 2e4), V=6.0, CdA=(4.0,) * 6,
+                   Ca=(1.0,) * 3)
+    m.add_rod("can", "body", (0.0, 0.0, -1.0), (0.0, 0.0, 7.0), N=4, outputs="pvfWBXYAaPb", body=b)
+    fair = m.add_point("body", (2.0, 0.0, -1.0), body=b)
+    anchor = m.add_point("fixed", (80.0, 0.0, -100.0))
+    m.add_line("rope", anchor, fair, L=125.0, N=10)
+    m.outputs = ["Body1PX", "B1RZ", "B1FZ", "B1MY", "B1T", "R1PZ", "R1TB", "R1FZ", "R1RX", "R1SUB", "R1N4PZ",
+                 "Rod1NBFX", "R1NAVX"]
+    return m
+
+
+@pytest.fixture(scope="module")
+def rigid_system():
+    from moorline.coupling import System
+
+    s = System(build_rigid_model(), dtM=0.001, scheme="RK4")
+    s.init(solve_ic=False)
+    s.advance_to(0.2, s._motion)
+    return s
+
+
+def test_rod_and_body_channels_match_views(rigid_system):
+    s = rigid_system
+    ch = parse_channels(s.model.outputs, s)
+    assert [(c.kind, c.node) for c in ch][:6] == [("body", None)] * 5 + [("rod", None)]
+    assert (ch[10].kind, ch[10].node, ch[11].node, ch[12].node) == ("rod", 4, 4, 0)
+    v = evaluate(ch, s)
+    b, r = s.bodies[0], s.rods[0]
+    want = [b.position()[0], np.degrees(b.angles()[2]), b.force()[2], b.force()[4], np.linalg.norm(b.force()[:3]),
+            r.end_positions()[0, 2], r.end_tensions()[1], r.force()[2], np.degrees(r.roll_pitch()[0]),
+            r.submergence(), r.node_positions()[4, 2], r.node_forces()[4, 0], r.node_velocities()[0, 0]]
+    np.testing.assert_allclose(v, want, rtol=1e-12, atol=1e-12)
+    assert v[1] == pytest.approx(30.0, abs=0.5)  # the yaw of the deck pose, barely changed after 0.2 s
+    assert 0.5 < v[9] < 1.0  # the rod pierces the surface (z from -6 to +2)
+
+
+def test_rod_file_columns_and_values(rigid_system):
+    s = rigid_system
+    titles, units = mo.rod_file_columns(s, 0)
+    assert len(titles) == 11 * 3 * 5 and titles[:3] == ["Node0px", "Node0py", "Node0pz"]
+    assert titles[15 * 2] == "Node0fx" and units[0] == "(m)" and units[15] == "(m/s)" and units[30] == "(N)"
+    vals = mo.rod_file_values(s, 0)
+    r = s.rods[0]
+    comps = r.node_force_components()
+    np.testing.assert_array_equal(vals[:15], r.node_positions().ravel())
+    np.testing.assert_array_equal(vals[45:60], comps["weight"].ravel())
+    # the node loads sum to the net node force (lines included at the end nodes: none here)
+    total = sum(comps.values())
+    np.testing.assert_allclose(total, r.node_forces(), rtol=0, atol=1e-9 * np.abs(total).max())
+
+
+def test_recorder_writes_rod_and_body_files(tmp_path, rigid_system):
+    rec = OutputRecorder(rigid_system)
+    rec.record()
+    files = [p.name for p in rec.write(tmp_path, "rig")]
+    assert files == ["rig.out", "rig_Rod1.out", "rig_Body1.out"]
+    body = (tmp_path / "rig_Body1.out").read_text().splitlines()
+    assert body[0].split("\t") == ["Time", "x", "y", "z", "roll", "pitch", "yaw"]
+    row = [float(x) for x in body[2].split("\t")]
+    assert row[6] == pytest.approx(np.degrees(rigid_system.bodies[0].angles()[2]), rel=1e-7)

@@ -147,16 +147,27 @@ def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
 
 
 @njit(cache=True, error_model="numpy")
-def check_state(y, vmax):
-    """Index of the first state row with a non-finite value or a speed above ``vmax``, else -1."""
-    nrow = y.size // 6
-    uoff = 3 * nrow
+def check_state(y, vmax, n3, n6):
+    """Index of the first state row (3-DOF rows, then 6-DOF blocks numbered n3 + j) with a
+    non-finite value or a speed above ``vmax``, else -1."""
+    uoff = 3 * n3 + 7 * n6
     v2 = vmax * vmax
-    for r in range(nrow):
+    for r in range(n3):
         o = 3 * r
         s = y[uoff + o] ** 2 + y[uoff + o + 1] ** 2 + y[uoff + o + 2] ** 2
         if not (s < v2) or not np.isfinite(y[o] + y[o + 1] + y[o + 2]):
             return r
+    for j in range(n6):
+        oq = 3 * n3 + 7 * j
+        ou = uoff + 3 * n3 + 6 * j
+        s = y[ou] ** 2 + y[ou + 1] ** 2 + y[ou + 2] ** 2
+        f = 0.0
+        for i in range(7):
+            f += y[oq + i]
+        for i in range(6):
+            f += y[ou + i]
+        if not (s < v2) or not np.isfinite(f):
+            return n3 + j
     return -1
 
 
@@ -198,7 +209,7 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vma
             t = Mo.t[j]
         else:
             t = t + h
-        bad = check_state(y, vmax)
+        bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             return t, bad, n_steps, piece
     if final_eval:

@@ -18,7 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..model import Curve, Model, PointKind
+from ..model import BodyKind, Curve, Model, PointKind, RodKind
 
 log = logging.getLogger("moorline.core")
 
@@ -26,6 +26,7 @@ log = logging.getLogger("moorline.core")
 P_FIXED = int(PointKind.FIXED)
 P_COUPLED = int(PointKind.COUPLED)
 P_FREE = int(PointKind.FREE)
+P_BODY = int(PointKind.BODY)
 
 # attachment kinds of line ends
 ATT_POINT = 0
@@ -60,11 +61,58 @@ class LineArrays(NamedTuple):
     node_row: np.ndarray  # int64 (n_nodes,): state row of the node, -1 for end nodes
 
 
-class RodArrays(NamedTuple):
-    kind: np.ndarray  # int64 (n_rods,) RodKind
-    N: np.ndarray  # int64 (n_rods,) segments (0: zero-length rod; its end B in the deck gives its direction)
-    rA0: np.ndarray  # (n_rods, 3) deck position of end A [m]
-    rB0: np.ndarray  # (n_rods, 3) deck position of end B [m]
+# rod kinds (mirror model.RodKind) and body kinds (mirror model.BodyKind)
+ROD_FIXED = int(RodKind.FIXED)
+ROD_PINNED = int(RodKind.PINNED)
+ROD_BODY = int(RodKind.BODY)
+ROD_BODY_PINNED = int(RodKind.BODY_PINNED)
+ROD_COUPLED = int(RodKind.COUPLED)
+ROD_COUPLED_PINNED = int(RodKind.COUPLED_PINNED)
+ROD_FREE = int(RodKind.FREE)
+BODY_FIXED = int(BodyKind.FIXED)
+BODY_COUPLED = int(BodyKind.COUPLED)
+BODY_COUPLED_PINNED = int(BodyKind.COUPLED_PINNED)
+BODY_FREE = int(BodyKind.FREE)
+
+
+class RigidArrays(NamedTuple):
+    """Rods and bodies, and the sizes of the state blocks.
+
+    The state ``y = [Q | U]``: ``Q`` holds 3 numbers per 3-DOF row (internal line nodes, free
+    points, free zero-length rods) then 7 per 6-DOF block (position, unit quaternion w x y z),
+    ``U`` 3 per row (velocity) then 6 per block (velocity, angular velocity in global axes).
+    6-DOF blocks belong to free rods, pinned rods (all kinds) and free and coupled-pinned bodies;
+    the translational part of a pinned object's block is not used (its parent sets it).
+    """
+
+    dims: np.ndarray  # int64 (2,): n3 rows, n6 blocks
+    rod_kind: np.ndarray  # int64 (nr,) ROD_*
+    rod_N: np.ndarray  # int64 (nr,) segments (0: zero-length rod)
+    rod_body: np.ndarray  # int64 (nr,) parent body, -1 if none
+    rod_blk: np.ndarray  # int64 (nr,) 6-DOF block, -1 if none
+    rod_row: np.ndarray  # int64 (nr,) 3-DOF row of a free zero-length rod, -1 otherwise
+    rod_cpl: np.ndarray  # int64 (nr,) offset in the coupled-DOF vector, -1 if not coupled
+    rod_rA0: np.ndarray  # (nr, 3) end A: global deck position, or body axes for rods on bodies [m]
+    rod_qrel: np.ndarray  # (nr, 3) unit axis in the parent's frame (body axes for rods on bodies)
+    rod_qref: np.ndarray  # (nr, 3) unit axis at the deck pose, global: the quaternion state rotates it
+    rod_L: np.ndarray  # (nr,) length [m]
+    rod_d: np.ndarray
+    rod_w: np.ndarray
+    rod_Cd: np.ndarray
+    rod_Ca: np.ndarray
+    rod_CdEnd: np.ndarray
+    rod_CaEnd: np.ndarray
+    rod_node_ptr: np.ndarray  # int64 (nr+1,): rod k owns rod nodes ptr[k]:ptr[k+1] (N+1, one if N = 0)
+    body_kind: np.ndarray  # int64 (nb,) BODY_*
+    body_blk: np.ndarray  # int64 (nb,)
+    body_cpl: np.ndarray  # int64 (nb,)
+    body_r0: np.ndarray  # (nb, 3) deck reference-point position [m]
+    body_Q0: np.ndarray  # (nb, 4) deck orientation quaternion (w, x, y, z)
+    body_M0: np.ndarray  # (nb, 6, 6) mass matrix about the reference point in body axes (incl. added mass)
+    body_m: np.ndarray  # (nb,) mass [kg] (0 for fixed and coupled bodies, as MoorDyn)
+    body_rCG: np.ndarray  # (nb, 3) CG in body axes [m]
+    body_V: np.ndarray  # (nb,) volume [m^3]
+    body_CdA: np.ndarray  # (nb, 6)
 
 
 class PointArrays(NamedTuple):
@@ -77,6 +125,7 @@ class PointArrays(NamedTuple):
     F_ext: np.ndarray  # (n_points, 3)
     row: np.ndarray  # int64 (n_points,): state row of free points, -1 otherwise
     cpl: np.ndarray  # int64 (n_points,): offset of the point in the coupled-DOF vector, -1 otherwise
+    body: np.ndarray  # int64 (n_points,): parent body of body points (r0 then in body axes), -1 otherwise
 
 
 # seabed contact modes and friction models (mirrors of model.CONTACT_MODES / FRICTION_MODELS)
@@ -141,7 +190,29 @@ class Work(NamedTuple):
     rodr: np.ndarray  # (n_rods, 2, 3) rod end positions
     rodv: np.ndarray  # (n_rods, 2, 3) rod end velocities
     rodq: np.ndarray  # (n_rods, 3) rod axis (unit vector from end A to B)
+    rodw: np.ndarray  # (n_rods, 3) rod angular velocity (global axes) [rad/s]
     rodF: np.ndarray  # (n_rods, 2, 3) sum of the line end forces on each rod end
+    rodEM: np.ndarray  # (2 n_rods, 3, 3) sum of the line end mass matrices on rod end 2k (A), 2k+1 (B)
+    rodMext: np.ndarray  # (n_rods, 3) moments on the rod besides its node forces (clamped cables, ends)
+    rod6F: np.ndarray  # (n_rods, 6) net force and moment about end A (coupled rods: minus M a_in)
+    rod6M: np.ndarray  # (n_rods, 6, 6) mass matrix about end A
+    rodacc: np.ndarray  # (n_rods, 6) acceleration of end A and angular acceleration
+    rn_r: np.ndarray  # (n_rod_nodes, 3) rod node positions
+    rn_v: np.ndarray  # (n_rod_nodes, 3) rod node velocities
+    rn_U: np.ndarray  # (n_rod_nodes, 3) water velocity
+    rn_Ud: np.ndarray  # (n_rod_nodes, 3) water acceleration
+    rn_zeta: np.ndarray  # (n_rod_nodes,) surface elevation (the rod uses that of its end B)
+    rn_pd: np.ndarray  # (n_rod_nodes,) dynamic pressure [Pa]
+    rn_F: np.ndarray  # (n_rod_nodes, 9, 3) node loads: W, B, Dp, Dq, Ap, Aq, Pd, seabed, net (incl. lines)
+    rn_M: np.ndarray  # (n_rod_nodes, 3, 3) node mass matrices (incl. line ends)
+    rn_vof: np.ndarray  # (n_rod_nodes,) submerged fraction of each rod node
+    bR: np.ndarray  # (n_bodies, 3, 3) body rotation matrices (body to global)
+    br: np.ndarray  # (n_bodies, 3) reference-point positions
+    bv: np.ndarray  # (n_bodies, 3)
+    bw: np.ndarray  # (n_bodies, 3) angular velocities (global axes)
+    b6F: np.ndarray  # (n_bodies, 6) net force and moment about the reference point
+    b6M: np.ndarray  # (n_bodies, 6, 6)
+    bacc: np.ndarray  # (n_bodies, 6)
     pr: np.ndarray  # (n_points, 3)
     pv: np.ndarray  # (n_points, 3)
     pa: np.ndarray  # (n_points, 3) acceleration (free points; imposed for coupled)
@@ -170,26 +241,43 @@ class Layout:
     """Everything the kernels need, plus the Python-side bookkeeping to read results back."""
 
     lines: LineArrays
-    rods: RodArrays
+    rigid: RigidArrays
     points: PointArrays
     env: EnvArrays
     seabed: Seabed
-    n_rows: int  # number of 3-vector state rows
+    n_rows: int  # number of 3-DOF state rows
+    n_blocks: int  # number of 6-DOF state blocks
     n_coupled_dof: int
     line_N: np.ndarray  # (n_lines,) segments per line
     line_L: np.ndarray  # (n_lines,) unstretched length [m] (negative inputs resolved)
     line_type_names: list
     coupled_points: list  # point indices in coupled-DOF order
+    coupled_rods: list
+    coupled_bodies: list
 
     @property
     def n_state(self) -> int:
-        return 6 * self.n_rows
+        return 6 * self.n_rows + 13 * self.n_blocks
+
+    @property
+    def u_offset(self) -> int:
+        """Index in the state where the velocities start."""
+        return 3 * self.n_rows + 7 * self.n_blocks
+
+    def block_slices(self, j: int) -> tuple[slice, slice]:
+        """(pose, velocity) slices of 6-DOF block ``j`` in the state: 7 and 6 numbers."""
+        q = 3 * self.n_rows + 7 * j
+        u = self.u_offset + 3 * self.n_rows + 6 * j
+        return slice(q, q + 7), slice(u, u + 6)
 
     def new_work(self) -> Work:
         nn = int(self.lines.node_ptr[-1])
         ns = int(self.lines.seg_ptr[-1])
         nl = len(self.line_N)
-        nr = len(self.rods.kind)
+        R = self.rigid
+        nr = len(R.rod_kind)
+        nrn = int(R.rod_node_ptr[-1])
+        nb = len(R.body_kind)
         npnt = len(self.points.kind)
         nc = self.n_coupled_dof
         z = np.zeros
@@ -197,7 +285,11 @@ class Layout:
                     Td=z((ns, 3)), seg_len=z(ns), seg_ldot=z(ns), seg_F=z(ns), seg_e=z((ns, 3)), q=z((nn, 3)),
                     F=z((nn, 3)), Fhyd=z((nn, 3)), Fbed=z((nn, 3)), W=z((nn, 3)), mass=z((nn, 3)),
                     acc=z((nn, 3)), kurv=z(nn), Fbend=z((nn, 3)), end_moment=z((nl, 2, 3)), rodr=z((nr, 2, 3)),
-                    rodv=z((nr, 2, 3)), rodq=z((nr, 3)), rodF=z((nr, 2, 3)), pr=z((npnt, 3)), pv=z((npnt, 3)),
+                    rodv=z((nr, 2, 3)), rodq=z((nr, 3)), rodw=z((nr, 3)), rodF=z((nr, 2, 3)), rodEM=z((2 * nr, 3, 3)),
+                    rodMext=z((nr, 3)), rod6F=z((nr, 6)), rod6M=z((nr, 6, 6)), rodacc=z((nr, 6)), rn_r=z((nrn, 3)),
+                    rn_v=z((nrn, 3)), rn_U=z((nrn, 3)), rn_Ud=z((nrn, 3)), rn_zeta=z(nrn), rn_pd=z(nrn),
+                    rn_F=z((nrn, 9, 3)), rn_M=z((nrn, 3, 3)), rn_vof=z(nrn), bR=z((nb, 3, 3)), br=z((nb, 3)), bv=z((nb, 3)),
+                    bw=z((nb, 3)), b6F=z((nb, 6)), b6M=z((nb, 6, 6)), bacc=z((nb, 6)), pr=z((npnt, 3)), pv=z((npnt, 3)),
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
                     ac=z(nc))
 
@@ -208,7 +300,7 @@ def effective_depth(model: Model) -> float:
     depth = model.env.depth
     if model.env.bathymetry is not None:
         return float(depth)
-    zmin = min((p.r[2] for p in model.points), default=0.0)
+    zmin = min((model.point_position(i)[2] for i in range(len(model.points))), default=0.0)
     if -zmin > depth:
         log.warning("water depth %.6g m is shallower than the deepest point (z = %.6g m); "
                     "using depth %.6g m as MoorDyn does", depth, zmin, -zmin)
@@ -292,15 +384,45 @@ def build_layout(model: Model) -> Layout:
     npnt = len(model.points)
     kind = np.array([int(p.kind) for p in model.points], dtype=np.int64)
     prow = -np.ones(npnt, dtype=np.int64)
-    cpl = -np.ones(npnt, dtype=np.int64)
-    coupled = []
     for i, p in enumerate(model.points):
         if p.kind == PointKind.FREE:
             prow[i] = row
             row += 1
-        elif p.kind == PointKind.COUPLED:
-            cpl[i] = 3 * len(coupled)
-            coupled.append(i)
+    nr = len(model.rods)
+    rod_row = -np.ones(nr, dtype=np.int64)
+    for k, rod in enumerate(model.rods):
+        if rod.kind == RodKind.FREE and rod.N == 0:
+            rod_row[k] = row
+            row += 1
+
+    # 6-DOF blocks: free rods, pinned rods, free and coupled-pinned bodies
+    nblk = 0
+    rod_blk = -np.ones(nr, dtype=np.int64)
+    for k, rod in enumerate(model.rods):
+        if rod.N > 0 and rod.kind in (RodKind.FREE, RodKind.PINNED, RodKind.BODY_PINNED, RodKind.COUPLED_PINNED):
+            rod_blk[k] = nblk
+            nblk += 1
+    nb = len(model.bodies)
+    body_blk = -np.ones(nb, dtype=np.int64)
+    for i, b in enumerate(model.bodies):
+        if b.kind in (BodyKind.FREE, BodyKind.COUPLED_PINNED):
+            body_blk[i] = nblk
+            nblk += 1
+
+    # coupled DOF vector: bodies, rods, points (MoorDyn's order)
+    off = 0
+    body_cpl = -np.ones(nb, dtype=np.int64)
+    for i in model.coupled_bodies:
+        body_cpl[i] = off
+        off += 6 if model.bodies[i].kind == BodyKind.COUPLED else 3
+    rod_cpl = -np.ones(nr, dtype=np.int64)
+    for k in model.coupled_rods:
+        rod_cpl[k] = off
+        off += 6 if model.rods[k].kind == RodKind.COUPLED else 3
+    cpl = -np.ones(npnt, dtype=np.int64)
+    for i in model.coupled_points:
+        cpl[i] = off
+        off += 3
 
     def col(attr):
         return np.array([getattr(p, attr) for p in model.points], dtype=float)
@@ -311,15 +433,13 @@ def build_layout(model: Model) -> Layout:
         m=col("m"), V=col("V"), CdA=col("CdA"), Ca=col("Ca"),
         F_ext=np.array([p.F_ext for p in model.points], dtype=float).reshape(npnt, 3),
         row=prow, cpl=cpl,
+        body=np.array([p.body if p.kind == PointKind.BODY else -1 for p in model.points], dtype=np.int64),
     )
     lines = LineArrays(node_ptr, seg_ptr, end_kind, end_idx, clamped, props["d"], props["A"], props["w"],
                        props["Cd"], props["Ca"], props["CdAx"], props["CaAx"], ea_tab, ba_tab, EI, ei_tab, seg_l0,
                        seg_EA, seg_BA, np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row)
-    nrod = len(model.rods)
-    rods = RodArrays(np.array([int(r.kind) for r in model.rods], dtype=np.int64),
-                     np.array([r.N for r in model.rods], dtype=np.int64),
-                     np.array([r.rA for r in model.rods], dtype=float).reshape(nrod, 3),
-                     np.array([r.rB for r in model.rods], dtype=float).reshape(nrod, 3))
+    rigid = _rigid_arrays(model, np.array([row, nblk], dtype=np.int64), rod_blk, rod_row, rod_cpl, body_blk,
+                          body_cpl)
     e = model.env
     muT, muA, mc, cv = e.friction_coefficients()
     fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
@@ -333,8 +453,91 @@ def build_layout(model: Model) -> Layout:
     else:
         grid = (b.x.copy(), b.y.copy(), b.z.copy())
     seabed = Seabed(*grid, np.zeros((nn, 3)), np.zeros((nn, 2)), np.zeros(3, dtype=np.int64))
-    return Layout(lines, rods, points, env, seabed, row, 3 * len(coupled), N, line_L,
-                  [ln.line_type for ln in model.lines], coupled)
+    return Layout(lines, rigid, points, env, seabed, row, nblk, off, N, line_L,
+                  [ln.line_type for ln in model.lines], model.coupled_points, model.coupled_rods, model.coupled_bodies)
+
+
+def quat_from_matrix(R: np.ndarray) -> np.ndarray:
+    """Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd's method, stable for any angle)."""
+    R = np.asarray(R, dtype=float)
+    tr = np.trace(R)
+    if tr > 0:
+        s = 2.0 * math.sqrt(1.0 + tr)
+        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
+    elif R[0, 0] > R[1, 1] and R[0, 0] > R[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2])
+        q = [(R[2, 1] - R[1, 2]) / s, 0.25 * s, (R[0, 1] + R[1, 0]) / s, (R[0, 2] + R[2, 0]) / s]
+    elif R[1, 1] > R[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2])
+        q = [(R[0, 2] - R[2, 0]) / s, (R[0, 1] + R[1, 0]) / s, 0.25 * s, (R[1, 2] + R[2, 1]) / s]
+    else:
+        s = 2.0 * math.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1])
+        q = [(R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s]
+    q = np.array(q)
+    return q / np.linalg.norm(q) * (1.0 if q[0] >= 0 else -1.0)
+
+
+def _skew(r) -> np.ndarray:
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+
+
+def body_mass_matrix(body, rho: float) -> np.ndarray:
+    """6x6 mass matrix of a body about its reference point, body axes: the rigid mass at its CG
+    moved to the reference point, plus translational added mass rho V Ca (spec 3.15)."""
+    M = np.zeros((6, 6))
+    if not body.has_inertia:
+        return M
+    m = body.m
+    S = _skew(body.rCG)
+    M[:3, :3] = m * np.eye(3)
+    M[:3, 3:] = -m * S
+    M[3:, :3] = m * S
+    M[3:, 3:] = np.diag(body.I) - m * S @ S
+    M[:3, :3] += np.diag(rho * body.V * body.Ca)
+    return M
+
+
+def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_cpl) -> RigidArrays:
+    nr = len(model.rods)
+    nb = len(model.bodies)
+    f = np.zeros
+    rod_L, rA0, qrel, qref = f(nr), f((nr, 3)), f((nr, 3)), f((nr, 3))
+    props = {k: f(nr) for k in ("d", "w", "Cd", "Ca", "CdEnd", "CaEnd")}
+    for k, rod in enumerate(model.rods):
+        rt = model.rod_types[rod.rod_type]
+        for name in props:
+            props[name][k] = getattr(rt, name)
+        rod_L[k] = rod.length if rod.N > 0 else 0.0
+        rA0[k] = rod.rA
+        qrel[k] = rod.axis
+        on_body = rod.kind in (RodKind.BODY, RodKind.BODY_PINNED)
+        qref[k] = model.bodies[rod.body].rotation @ rod.axis if on_body else rod.axis
+    nodes = np.array([r.N + 1 for r in model.rods], dtype=np.int64)
+    ptr = np.zeros(nr + 1, dtype=np.int64)
+    ptr[1:] = np.cumsum(nodes)
+    bodies = model.bodies
+    rho = model.env.rho
+    keep = [b.has_inertia for b in bodies]
+    return RigidArrays(
+        dims=dims,
+        rod_kind=np.array([int(r.kind) for r in model.rods], dtype=np.int64),
+        rod_N=np.array([r.N for r in model.rods], dtype=np.int64),
+        rod_body=np.array([r.body if r.kind in (RodKind.BODY, RodKind.BODY_PINNED) else -1 for r in model.rods],
+                          dtype=np.int64),
+        rod_blk=rod_blk, rod_row=rod_row, rod_cpl=rod_cpl, rod_rA0=rA0, rod_qrel=qrel, rod_qref=qref, rod_L=rod_L,
+        rod_d=props["d"], rod_w=props["w"], rod_Cd=props["Cd"], rod_Ca=props["Ca"], rod_CdEnd=props["CdEnd"],
+        rod_CaEnd=props["CaEnd"], rod_node_ptr=ptr,
+        body_kind=np.array([int(b.kind) for b in bodies], dtype=np.int64),
+        body_blk=body_blk, body_cpl=body_cpl,
+        body_r0=np.array([b.r for b in bodies], dtype=float).reshape(nb, 3),
+        body_Q0=np.array([quat_from_matrix(b.rotation) for b in bodies], dtype=float).reshape(nb, 4),
+        body_M0=np.array([body_mass_matrix(b, rho) for b in bodies], dtype=float).reshape(nb, 6, 6),
+        body_m=np.array([b.m if k else 0.0 for b, k in zip(bodies, keep, strict=True)], dtype=float),
+        body_rCG=np.array([b.rCG for b in bodies], dtype=float).reshape(nb, 3),
+        body_V=np.array([b.V if k else 0.0 for b, k in zip(bodies, keep, strict=True)], dtype=float),
+        body_CdA=np.array([b.CdA if k else np.zeros(6) for b, k in zip(bodies, keep, strict=True)],
+                          dtype=float).reshape(nb, 6),
+    )
 
 
 def static_motion(x: np.ndarray) -> Motion:

@@ -14,6 +14,15 @@ from numba import njit
 from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
 from .numerics import bracket
+from .rigid import (
+    body_kinematics,
+    body_point_kinematics,
+    rigid_dynamics,
+    rod_kinematics,
+    rod_loads,
+    rod_nodes,
+    zero_length_axes,
+)
 
 
 @njit(cache=True, error_model="numpy")
@@ -47,7 +56,8 @@ def motion_eval(Mo, t, piece, x, v, a):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def set_kinematics(t, y, L, R, P, Mo, W, piece):
-    """Points and line nodes from the state ``y`` and the coupled trajectory at time ``t``."""
+    """Bodies, rods, points and line nodes from the state ``y`` and the coupled trajectory at
+    time ``t`` (spec 3.16, step 1)."""
     # arrays are bound to locals once: reading them from a NamedTuple inside a loop costs a
     # reference-count update per access
     pr = W.pr
@@ -65,10 +75,22 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
     node_row = L.node_row
     end_kind = L.end_kind
     end_idx = L.end_idx
-    nrow = y.size // 6
-    uoff = 3 * nrow
+    uoff = 3 * R.dims[0] + 7 * R.dims[1]
     if xc.size > 0:
         motion_eval(Mo, t, piece, xc, vc, W.ac)
+    nl = node_ptr.size - 1
+    for li in range(nl):
+        for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
+            o = 3 * node_row[n]
+            for c in range(3):
+                r[n, c] = y[o + c]
+                v[n, c] = y[uoff + o + c]
+    if R.body_kind.size > 0:
+        body_kinematics(y, R, W)
+    if R.rod_kind.size > 0:
+        rod_kinematics(y, R, W)
+        zero_length_axes(R, L, W)
+        rod_nodes(R, W)
     for p in range(kind.size):
         k = kind[p]
         if k == P_FIXED:
@@ -87,25 +109,10 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
             for c in range(3):
                 pr[p, c] = y[o + c]
                 pv[p, c] = y[uoff + o + c]
+    if R.body_kind.size > 0:
+        body_point_kinematics(P, W)
     rodr = W.rodr
     rodv = W.rodv
-    for k in range(R.kind.size):
-        # fixed rods (the only kind so far): the deck pose; a zero-length rod sits at its end A and
-        # takes its direction from end B
-        bx = R.rB0[k, 0] - R.rA0[k, 0]
-        by = R.rB0[k, 1] - R.rA0[k, 1]
-        bz = R.rB0[k, 2] - R.rA0[k, 2]
-        bn = math.sqrt(bx * bx + by * by + bz * bz)
-        for c in range(3):
-            rodr[k, 0, c] = R.rA0[k, c]
-            rodr[k, 1, c] = R.rB0[k, c] if R.N[k] > 0 else R.rA0[k, c]
-            rodv[k, 0, c] = 0.0
-            rodv[k, 1, c] = 0.0
-        if bn > 0.0:
-            W.rodq[k, 0] = bx / bn
-            W.rodq[k, 1] = by / bn
-            W.rodq[k, 2] = bz / bn
-    nl = node_ptr.size - 1
     for li in range(nl):
         for j in range(2):
             n = node_ptr[li] if j == 0 else node_ptr[li + 1] - 1
@@ -121,11 +128,6 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
                 for c in range(3):
                     r[n, c] = rodr[k, e, c]
                     v[n, c] = rodv[k, e, c]
-        for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
-            o = 3 * node_row[n]
-            for c in range(3):
-                r[n, c] = y[o + c]
-                v[n, c] = y[uoff + o + c]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -167,7 +169,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
         Time [s].
     y, dy : ndarray (n_state,)
         State ``[q | u]`` and its derivative ``[u | a]``.
-    L, R, P, E, B, Mo, W : LineArrays, RodArrays, PointArrays, EnvArrays, Seabed, Motion, Work
+    L, R, P, E, B, Mo, W : LineArrays, RigidArrays, PointArrays, EnvArrays, Seabed, Motion, Work
     cd_scale : float
         Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
     piece : int
@@ -175,10 +177,16 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
     """
     set_kinematics(t, y, L, R, P, Mo, W, piece)
     rodF = W.rodF
-    for k in range(R.kind.size):
+    rodEM = W.rodEM
+    rodMext = W.rodMext
+    nrod = R.rod_kind.size
+    for k in range(nrod):
         for e in range(2):
             for c in range(3):
                 rodF[k, e, c] = 0.0
+                rodMext[k, c] = 0.0
+                for b in range(3):
+                    rodEM[2 * k + e, c, b] = 0.0
     pF = W.pF
     pM = W.pM
     pa = W.pa
@@ -209,14 +217,18 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
                     pF[p, c] += F[n, c]
                 add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
             else:
+                k = end_idx[li, j]
                 e = 0 if end_kind[li, j] == ATT_ROD_A else 1
                 for c in range(3):
-                    rodF[end_idx[li, j], e, c] += F[n, c]
+                    rodF[k, e, c] += F[n, c]
+                    # the bending moment of a clamped cable end acts on the rod (zero when pinned)
+                    rodMext[k, c] += W.end_moment[li, j, c]
+                add_end_mass(rodEM, 2 * k + e, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
     point_loads(P, E, W, cd_scale)
 
-    nrow = y.size // 6
-    uoff = 3 * nrow
-    for i in range(3 * nrow):
+    n3 = R.dims[0]
+    uoff = 3 * n3 + 7 * R.dims[1]
+    for i in range(3 * n3):
         dy[i] = y[uoff + i]
     for li in range(nl):
         for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
@@ -230,3 +242,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
             dy[o] = pa[p, 0]
             dy[o + 1] = pa[p, 1]
             dy[o + 2] = pa[p, 2]
+    if nrod > 0 or R.body_kind.size > 0:
+        if nrod > 0:
+            rod_loads(R, E, B, W, cd_scale)
+        rigid_dynamics(y, dy, R, P, E, W)

@@ -51,6 +51,8 @@ def choose_dtM(model: Model, layout: Layout) -> float:
     """``dtM`` from the options, or CFL times the smallest segment period (MoorDyn's rule)."""
     if model.options.dtM is not None and model.options.dtM > 0:
         return float(model.options.dtM)
+    if not model.lines:
+        return 1e-3  # rods and bodies only: no segment period to scale; MoorDyn's default dtM
     tmin = min(segment_period(model, layout, li) for li in range(len(model.lines)))
     return float(model.options.CFL) * tmin
 
@@ -111,13 +113,42 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
                     m += 0.5 * lt.w * l0
         if k > 0 and m > 0:
             modes.append(Mode(f"point {p + 1}", "point on its lines", math.sqrt(k / m)))
+    modes += _rigid_modes(model, layout)
+    return modes
+
+
+def _rigid_modes(model: Model, layout: Layout) -> list[Mode]:
+    """Free rods (translation on the axial stiffness of their lines' end segments, and seabed
+    contact of their nodes)."""
+    from ..model import RodKind
+
+    E = layout.env
+    modes = []
+    for k, rod in enumerate(model.rods):
+        if rod.kind != RodKind.FREE:
+            continue
+        rt = model.rod_types[rod.rod_type]
+        stiff = 0.0
+        m = rt.w * rod.length + E.rho * rt.Ca * 0.25 * math.pi * rt.d**2 * rod.length
+        for li, ln in enumerate(model.lines):
+            lt = model.line_types[ln.line_type]
+            l0 = layout.line_L[li] / layout.line_N[li]
+            for att in (ln.end_a, ln.end_b):
+                if att.kind == "rod" and att.index == k:
+                    stiff += lt.EA_max / l0
+                    m += 0.5 * lt.w * l0
+        if stiff > 0 and m > 0:
+            modes.append(Mode(f"rod {k + 1}", "rod on its lines", math.sqrt(stiff / m)))
+        if rod.N > 0 and rt.w > 0:
+            modes.append(Mode(f"rod {k + 1}", "rod seabed contact stiffness", math.sqrt(E.kBot * rt.d / rt.w)))
+            modes.append(Mode(f"rod {k + 1}", "rod seabed contact damping", E.cBot * rt.d / rt.w))
     return modes
 
 
 def stability_report(model: Model, layout: Layout, dtM: float, scheme: Scheme,
                      on_seabed: np.ndarray | None = None, label: str | None = None) -> tuple[Mode, float, str]:
     """The governing mode, the largest stable dtM [s] for ``scheme``, and a one-line report."""
-    modes = fast_modes(model, layout, on_seabed)
+    modes = fast_modes(model, layout, on_seabed) or [Mode("system", "no fast mode", 0.0)]
     gov = min(modes, key=lambda m: m.dt_limit(scheme))
     limit = gov.dt_limit(scheme)
     ratio = gov.rate * dtM

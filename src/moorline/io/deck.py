@@ -32,10 +32,13 @@ from typing import Any
 
 from ..errors import DeckError
 from ..model import (
+    BODY_KIND_WORDS,
     CONTACT_MODES,
     FRICTION_MODELS,
     POINT_KIND_WORDS,
     Attachment,
+    Body,
+    BodyKind,
     Curve,
     Line,
     LineType,
@@ -55,7 +58,6 @@ log = logging.getLogger("moorline.io")
 CURVE_MAX_POINTS = 30
 
 _UNSUPPORTED = {
-    "BODIES": "6-DOF bodies are not implemented yet",
     "SYROPE IC": "the Syrope rope model is not implemented",
     "FAILURE": "line failures are not implemented",
 }
@@ -151,16 +153,25 @@ def _ei(tok, rd):
     return rd.number_or_curve(tok, "EI", "a number >= 0", lambda v: v >= 0)
 
 
-_POINT_KIND_TEXT = "Fixed/Anchor/Fix, Coupled/Vessel/Ves/Cpld/Fairlead or Free/Point/Connect/Con"
+_POINT_KIND_TEXT = "Fixed/Anchor/Fix, Coupled/Vessel/Ves/Cpld/Fairlead, Free/Point/Connect/Con or Body<n>"
+
+
+def _body_number(up, tok, rd, what):
+    """0-based index of the body named by ``Body<n>...`` (checked against the deck's bodies)."""
+    n = int(re.match(r"BODY(\d+)", up).group(1))
+    nb = len(rd.model.bodies) if rd is not None else 0
+    if not 1 <= n <= nb:
+        raise _Bad(f"{tok!r}: {what} body {n}, but the deck has {nb} bodies (BODIES section)", plain=True)
+    return n - 1
 
 
 def _point_kind(tok, rd=None):
+    """(kind, body index or None) of a point attachment word."""
     up = tok.upper()
     if up in POINT_KIND_WORDS:
-        return POINT_KIND_WORDS[up]
+        return POINT_KIND_WORDS[up], None
     if re.fullmatch(r"BODY\d+", up):
-        raise _Bad(f"{tok!r}: bodies are not supported yet (points fixed to a body come with the cable "
-                   "work)", plain=True)
+        return PointKind.BODY, _body_number(up, tok, rd, "a point fixed to")
     if re.fullmatch(r"TURBINE\d+", up):
         raise _Bad(f"{tok!r}: TURBINE<n> points are a FAST.Farm feature and are not supported", plain=True)
     raise _Bad(f"a point type word ({_POINT_KIND_TEXT})")
@@ -202,13 +213,31 @@ _ROD_WORDS = {
 
 
 def _rod_kind(tok, rd=None):
+    """(kind, body index or None) of a rod attachment word."""
     up = tok.upper()
     if up in _ROD_WORDS:
-        return _ROD_WORDS[up]
-    if re.fullmatch(r"BODY\d+(PINNED|PIN)?", up):
-        raise _Bad(f"{tok!r}: rods on bodies need bodies, which are not implemented yet", plain=True)
+        return _ROD_WORDS[up], None
+    m = re.fullmatch(r"BODY\d+(PINNED|PIN)?", up)
+    if m:
+        kind = RodKind.BODY_PINNED if m.group(1) else RodKind.BODY
+        return kind, _body_number(up, tok, rd, "a rod on")
     raise _Bad("a rod attachment word (Fixed/Anchor, Pinned, Body<n>, Body<n>Pinned, Coupled/Vessel, "
                "CoupledPinned/VesPin, Free/Point)")
+
+
+def _body_kind(tok, rd=None):
+    return BODY_KIND_WORDS.get(tok.upper(), BodyKind.FREE)
+
+
+def _bars(n_allowed, what, nonneg=True):
+    """Parser of ``a|b|c`` lists with one of the lengths ``n_allowed``."""
+    def parse(tok, rd=None):
+        parts = tok.split("|")
+        vals = [parse_number(x) for x in parts]
+        if any(v is None or (nonneg and v < 0) for v in vals) or len(vals) not in n_allowed:
+            raise _Bad(what)
+        return vals
+    return parse
 
 
 def _segs0(tok, rd=None):
@@ -282,6 +311,16 @@ ROD_COLUMNS = (
     _c("ID", "(#)", _whole), _c("RodType", "(name)", _word, "rod_type"), _c("Attachment", "(#/key)", _rod_kind, "kind"),
     _c("Xa", "(m)", _any), _c("Ya", "(m)", _any), _c("Za", "(m)", _any), _c("Xb", "(m)", _any), _c("Yb", "(m)", _any),
     _c("Zb", "(m)", _any), _c("NumSegs", "(-)", _segs0, "N"), _c("RodOutputs", "(-)", _flags, "outputs"),
+)
+BODY_COLUMNS = (
+    _c("ID", "(#)", _whole), _c("Attachment", "(-)", _body_kind, "kind"), _c("X0", "(m)", _any),
+    _c("Y0", "(m)", _any), _c("Z0", "(m)", _any), _c("r0", "(deg)", _any), _c("p0", "(deg)", _any),
+    _c("y0", "(deg)", _any), _c("Mass", "(kg)", _nonneg, "m"),
+    _c("CG*", "(m)", _bars((1, 3), "one number (z of the CG) or x|y|z", nonneg=False), "rCG"),
+    _c("I*", "(kg-m^2)", _bars((1, 3), "one number >= 0 or Ix|Iy|Iz"), "I"),
+    _c("Volume", "(m^3)", _nonneg, "V"),
+    _c("CdA*", "(m^2)", _bars((1, 2, 3, 6), "one number >= 0, trans|rot, x|y|z or six values"), "CdA"),
+    _c("Ca*", "(-)", _bars((1, 3), "one number >= 0 or Cax|Cay|Caz"), "Ca"),
 )
 LINE_COLUMNS = (
     _c("ID", "(#)", _whole), _c("LineType", "(name)", _word, "line_type"),
@@ -409,6 +448,7 @@ class _Reader:
         self.type_rows: dict[str, Row] = {}
         self.rod_type_rows: dict[str, Row] = {}
         self.rod_rows: list[Row] = []
+        self.body_rows: list[Row] = []
         self.n_rods = 0
         self.point_rows: list[Row] = []
         self.line_rows: list[Row] = []
@@ -500,8 +540,9 @@ class _Reader:
         return sec
 
     def read_line_types(self):
-        sec = self.required("LINE TYPES", "at least one line type")
-        for row in sec.rows:
+        rigid = any(self.sections.get(n) is not None and self.sections[n].rows for n in ("RODS", "BODIES"))
+        sec = self.sections.get("LINE TYPES") if rigid else self.required("LINE TYPES", "at least one line type")
+        for row in sec.rows if sec is not None else []:
             n = len(row.tokens)
             if n == 9:
                 cols = LINE_TYPE_COLUMNS_V1
@@ -530,6 +571,34 @@ class _Reader:
             self.model.line_types[name] = LineType(name, **f)
             self.type_rows[name] = row
 
+    def read_bodies(self):
+        sec = self.sections.get("BODIES")
+        for k, row in enumerate(sec.rows if sec is not None else [], 1):
+            self.check_count("BODIES", row, BODY_COLUMNS, "14 (ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG I Volume "
+                             "CdA Ca)")
+            f = self.read_fields("BODIES", row, BODY_COLUMNS)
+            self.check_id("BODIES", row, f.pop("ID"), k)
+            r = (f.pop("X0"), f.pop("Y0"), f.pop("Z0"))
+            angles = (f.pop("r0"), f.pop("p0"), f.pop("y0"))
+            cg = f.pop("rCG")
+            f["rCG"] = (0.0, 0.0, cg[0]) if len(cg) == 1 else cg
+            cda = f.pop("CdA")
+            # 1 value: all six DOF; 2: translation|rotation; 3: x|y|z for translation and rotation
+            # alike (the documented meaning; MoorDyn-C mis-reads 3 and 6 values, spec 1.5); 6: per DOF
+            if len(cda) == 1:
+                f["CdA"] = cda * 6
+            elif len(cda) == 2:
+                f["CdA"] = [cda[0]] * 3 + [cda[1]] * 3
+            elif len(cda) == 3:
+                f["CdA"] = cda * 2
+            if f["kind"] not in (BodyKind.FREE, BodyKind.COUPLED_PINNED) and (
+                    f["m"] or f["V"] or any(f["I"]) or any(f["CdA"]) or any(f["Ca"])):
+                log.info("%s, line %d: body %d is %s: its own mass, volume, inertia, CdA and Ca are not used (as "
+                         "in MoorDyn); only attached rods and points carry mass and loads", self.file, row.line,
+                         k, f["kind"].name.lower())
+            self.model.bodies.append(Body(r=r, angles=angles, **f))
+            self.body_rows.append(row)
+
     def read_rod_types(self):
         sec = self.sections.get("ROD TYPES")
         for row in sec.rows if sec is not None else []:
@@ -552,6 +621,7 @@ class _Reader:
                                  f"{f['rod_type']!r}", row, "RodType")
             rA = (f.pop("Xa"), f.pop("Ya"), f.pop("Za"))
             rB = (f.pop("Xb"), f.pop("Yb"), f.pop("Zb"))
+            f["kind"], f["body"] = f["kind"]
             self.model.rods.append(Rod(rA=rA, rB=rB, **f))
             self.rod_rows.append(row)
         self.n_rods = len(self.model.rods)
@@ -570,6 +640,7 @@ class _Reader:
             self.check_id("POINTS", row, f.pop("ID"), k)
             r = (f.pop("X"), f.pop("Y"), f.pop("Z"))
             F = (f.pop("FX", 0.0), f.pop("FY", 0.0), f.pop("FZ", 0.0))
+            f["kind"], f["body"] = f["kind"]
             self.model.points.append(Point(r=r, F_ext=F, **f))
             self.point_rows.append(row)
         self.n_points = len(self.model.points)
@@ -583,9 +654,13 @@ class _Reader:
                                      and _is_attachment(toks[3], self.n_points))
 
     def read_lines(self):
-        sec = self.required("LINES", "at least one line")
+        if self.model.rods or self.model.bodies:
+            sec = self.sections.get("LINES")
+            rows = sec.rows if sec is not None else []
+        else:
+            rows = self.required("LINES", "at least one line (or a RODS or BODIES section)").rows
         said_v1 = False
-        for k, row in enumerate(sec.rows, 1):
+        for k, row in enumerate(rows, 1):
             self.check_count("LINES", row, LINE_COLUMNS,
                              "7 (ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs)")
             cols = LINE_COLUMNS
@@ -708,7 +783,7 @@ class _Reader:
         if m:
             return self.rod_type_rows.get(m.group(1))
         for pattern, rows in ((r"line (\d+)", self.line_rows), (r"point (\d+)", self.point_rows),
-                              (r"rod (\d+)", self.rod_rows)):
+                              (r"rod (\d+)", self.rod_rows), (r"body (\d+)", self.body_rows)):
             m = re.match(pattern, msg)
             if m and 1 <= int(m.group(1)) <= len(rows):
                 return rows[int(m.group(1)) - 1]
@@ -745,6 +820,7 @@ def read_deck_text(text: str, path=None, base_dir=None) -> Model:
     rd.collect(lex(text, file=rd.file))
     rd.read_options()
     rd.read_line_types()
+    rd.read_bodies()
     rd.read_rod_types()
     rd.read_rods()
     rd.read_points()

@@ -20,8 +20,8 @@ Channel rules (MoorDyn-C v2.7 behaviour, checked against the ``moordyn`` 2.7.2 w
 
 * a name that cannot be interpreted (a v1 ``END`` row, v1 ``Con3vY`` names, an unknown prefix, a
   missing or unknown quantity code) is skipped with a warning on the ``moorline.io`` logger;
-* a reference to a line, point or node that does not exist raises :class:`moorline.errors.DeckError`;
-  so does any rod or body channel, since this version has neither;
+* a reference to a line, point, rod, body or node that does not exist raises
+  :class:`moorline.errors.DeckError`;
 * a known quantity code that is not defined for the object (e.g. ``L1N2AX``, ``P1RX``, ``P1TA``)
   keeps its column, as MoorDyn does, and is written as zeros (with a warning).
 """
@@ -47,8 +47,13 @@ __all__ = [
     "decompose",
     "evaluate",
     "has_line_file",
+    "body_file_values",
+    "has_rod_file",
     "line_file_columns",
     "line_file_values",
+    "rod_file_columns",
+    "rod_file_values",
+    "write_body_out",
     "output_due",
     "parse_channels",
     "write_line_out",
@@ -116,6 +121,11 @@ _ALIASES = {"TEN": "T", "TENA": "TA", "TENB": "TB"}
 #: quantities defined for a line node and for a point (spec 1.13)
 _LINE_QUANTITIES = frozenset(("PX", "PY", "PZ", "VX", "VY", "VZ", "T", "TA", "TB", "FX", "FY", "FZ"))
 _POINT_QUANTITIES = frozenset(("PX", "PY", "PZ", "VX", "VY", "VZ", "AX", "AY", "AZ", "T", "FX", "FY", "FZ"))
+_ROD_QUANTITIES = frozenset(("PX", "PY", "PZ", "VX", "VY", "VZ", "AX", "AY", "AZ", "RX", "RY", "RVX", "RVY", "RVZ",
+                             "RAX", "RAY", "RAZ", "TA", "TB", "FX", "FY", "FZ", "MX", "MY", "MZ", "SUB"))
+_ROD_NODE_QUANTITIES = frozenset(("PX", "PY", "PZ", "VX", "VY", "VZ", "FX", "FY", "FZ"))
+_BODY_QUANTITIES = frozenset(("PX", "PY", "PZ", "VX", "VY", "VZ", "AX", "AY", "AZ", "RX", "RY", "RZ", "RVX", "RVY",
+                              "RVZ", "RAX", "RAY", "RAZ", "T", "FX", "FY", "FZ", "MX", "MY", "MZ"))
 
 _PREFIXES = {"L": "line", "LINE": "line", "P": "point", "POINT": "point", "R": "rod", "ROD": "rod",
              "B": "body", "BODY": "body"}
@@ -132,15 +142,15 @@ class Channel:
     unit : str
         Unit string of the units row (``m``, ``m/s``, ``m/s^2``, ``N``, ...).
     kind : str
-        ``'line'`` or ``'point'``: the object the value is read from.
+        ``'line'``, ``'point'``, ``'rod'`` or ``'body'``: the object the value is read from.
     index : int
-        0-based index of the line or point.
+        0-based index of the object.
     quantity : str
         Canonical quantity code: ``PX PY PZ VX VY VZ AX AY AZ FX FY FZ`` (vector components),
         ``T`` (node tension / point net-force magnitude), ``TA``/``TB`` (net-force magnitude on
         line node 0 / node N), or ``ZERO`` for a known code that is not defined for the object.
     node : int or None
-        Node index 0..N for line channels, None for points.
+        Node index 0..N for line and rod-node channels, None for points, bodies and whole rods.
     """
 
     name: str
@@ -219,8 +229,8 @@ def parse_channels(names, system_or_model) -> list[Channel]:
     Raises
     ------
     moorline.errors.DeckError
-        A name refers to a line, point or node that does not exist, or to a rod or body (this
-        version has none). The message names the channel and the deck file (``model.source``).
+        A name refers to a line, point, rod, body or node that does not exist. The message names
+        the channel and the deck file (``model.source``).
     """
     model = _model_of(system_or_model)
     source = getattr(model, "source", None)
@@ -232,27 +242,28 @@ def parse_channels(names, system_or_model) -> list[Channel]:
             log.warning("output channel %r skipped: %s", name, what)
             continue
         kind, num, node, q = what
-        if kind in ("rod", "body"):
-            raise DeckError(f"OUTPUTS channel {name!r}: no {kind} {num} (this version of moorline has no "
-                            f"{kind}s)", file=source)
-        count = n_lines if kind == "line" else n_points
+        count = {"line": n_lines, "point": n_points, "rod": len(model.rods), "body": len(model.bodies)}[kind]
         if not 1 <= num <= count:
-            raise DeckError(f"OUTPUTS channel {name!r}: no {kind} {num} (the model has {count} {kind}"
-                            f"{'' if count == 1 else 's'})", file=source)
+            raise DeckError(f"OUTPUTS channel {name!r}: no {kind} {num} (the model has {count} "
+                            f"{'bodies' if kind == 'body' and count != 1 else kind + ('' if count == 1 else 's')})",
+                            file=source)
         unit = _QUANTITY_UNITS[q]
-        if kind == "line":
-            n_seg = int(model.lines[num - 1].N)
+        if kind in ("line", "rod") and node is not None or kind == "line":
+            obj = model.lines[num - 1] if kind == "line" else model.rods[num - 1]
+            n_seg = int(obj.N)
             node = {None: 0, "A": 0, "B": n_seg}.get(node, node)
             if not 0 <= node <= n_seg:
-                raise DeckError(f"OUTPUTS channel {name!r}: no node {node} on line {num} "
+                raise DeckError(f"OUTPUTS channel {name!r}: no node {node} on {kind} {num} "
                                 f"(nodes 0 to {n_seg})", file=source)
-            defined = q in _LINE_QUANTITIES
+            defined = q in (_LINE_QUANTITIES if kind == "line" else _ROD_NODE_QUANTITIES)
+            where = f"{kind} node"
         else:
             node = None
-            defined = q in _POINT_QUANTITIES
+            defined = q in {"point": _POINT_QUANTITIES, "rod": _ROD_QUANTITIES, "body": _BODY_QUANTITIES}[kind]
+            where = kind
         if not defined:
-            log.warning("output channel %r: %s is not defined for a %s%s; written as zeros (as MoorDyn does)",
-                        name, q, kind, " node" if kind == "line" else "")
+            log.warning("output channel %r: %s is not defined for a %s; written as zeros (as MoorDyn does)",
+                        name, q, where)
             q = "ZERO"
         out.append(Channel(name, unit, kind, num - 1, q, node))
     return out
@@ -286,7 +297,7 @@ def evaluate(channels, system) -> np.ndarray:
     def get(kind: str, index: int, what: str) -> np.ndarray:
         key = (kind, index, what)
         if key not in cache:
-            obj = system.lines[index] if kind == "line" else system.points[index]
+            obj = {"line": system.lines, "point": system.points, "rod": system.rods, "body": system.bodies}[kind][index]
             cache[key] = np.asarray(getattr(obj, what)())
         return cache[key]
 
@@ -309,13 +320,46 @@ def evaluate(channels, system) -> np.ndarray:
             else:
                 what = {"P": "node_positions", "V": "node_velocities", "F": "node_forces"}[q[0]]
                 out[k] = get("line", ch.index, what)[ch.node, _COMPONENT[q[1]]]
-        else:
+        elif ch.kind == "point":
             if q == "T":
                 out[k] = np.linalg.norm(get("point", ch.index, "force"))
             else:
                 what = {"P": "position", "V": "velocity", "A": "acceleration", "F": "force"}[q[0]]
                 out[k] = get("point", ch.index, what)[_COMPONENT[q[1]]]
+        elif ch.kind == "rod" and ch.node is not None:
+            what = {"P": "node_positions", "V": "node_velocities", "F": "node_forces"}[q[0]]
+            out[k] = get("rod", ch.index, what)[ch.node, _COMPONENT[q[1]]]
+        else:
+            out[k] = _rigid_value(ch, get)
     return out
+
+
+def _rigid_value(ch, get) -> float:
+    """Value of a whole-rod or body channel (angles and rates in degrees)."""
+    q = ch.quantity
+    kind = ch.kind
+    if q == "SUB":
+        return float(get("rod", ch.index, "submergence"))
+    if q in ("TA", "TB"):
+        return float(get("rod", ch.index, "end_tensions")[0 if q == "TA" else 1])
+    if q == "T":
+        return float(np.linalg.norm(get(kind, ch.index, "force")[:3]))
+    if q in ("PX", "PY", "PZ"):
+        pos = get("rod", ch.index, "end_positions")[0] if kind == "rod" else get("body", ch.index, "position")
+        return float(pos[_COMPONENT[q[1]]])
+    if q in ("VX", "VY", "VZ"):
+        return float(get(kind, ch.index, "velocity")[_COMPONENT[q[1]]])
+    if q in ("AX", "AY", "AZ"):
+        return float(get(kind, ch.index, "acceleration")[_COMPONENT[q[1]]])
+    if q in ("RX", "RY", "RZ"):
+        ang = get("rod", ch.index, "roll_pitch") if kind == "rod" else get("body", ch.index, "angles")
+        return math.degrees(float(ang[_COMPONENT[q[1]]]))
+    if q in ("RVX", "RVY", "RVZ"):
+        return math.degrees(float(get(kind, ch.index, "angular_velocity")[_COMPONENT[q[2]]]))
+    if q in ("RAX", "RAY", "RAZ"):
+        return math.degrees(float(get(kind, ch.index, "acceleration")[3 + _COMPONENT[q[2]]]))
+    # FX FY FZ MX MY MZ
+    return float(get(kind, ch.index, "force")[(0 if q[0] == "F" else 3) + _COMPONENT[q[1]]])
 
 
 # ---------------------------------------------------------------------------------------- per-line files
@@ -412,6 +456,80 @@ def line_file_values(system, i: int) -> np.ndarray:
     }
     parts = [np.asarray(getters[flag](), dtype=float).ravel() for flag, *_ in _LINE_BLOCKS if flag in flags]
     return np.concatenate(parts)
+
+
+# ---------------------------------------------------------------------------------------- rod and body files
+
+#: per-rod blocks in file order: flag -> node-force component index in RodView.node_force_components order
+#: (spec 2.4; moorline writes X before Y, as the header says, where MoorDyn-C swaps the two blocks)
+_ROD_BLOCKS = (("p", "p"), ("v", "v"), ("f", "f"), ("W", "weight"), ("B", "buoyancy"), ("X", "drag_transverse"),
+               ("Y", "drag_axial"), ("A", "inertia_transverse"), ("a", "inertia_axial"), ("P", "dynamic_pressure"),
+               ("b", "seabed"))
+
+
+def _rod_flags(system_or_model, k: int) -> str:
+    flags = _model_of(system_or_model).rods[k].outputs or ""
+    return "" if flags.strip() == "-" else flags
+
+
+def has_rod_file(system_or_model, k: int) -> bool:
+    """Whether rod ``k`` gets a ``<base>_Rod<k+1>.out`` file: any known rod flag (spec 2.4; moorline
+    creates the file for every known flag, where MoorDyn-C needs one of ``p v U D c t s d``)."""
+    return any(f in _rod_flags(system_or_model, k) for f, _ in _ROD_BLOCKS)
+
+
+def rod_file_columns(system_or_model, k: int) -> tuple[list[str], list[str]]:
+    """Titles and units of the per-rod file of rod ``k`` (0-based), without the time column."""
+    if not has_rod_file(system_or_model, k):
+        return [], []
+    flags = _rod_flags(system_or_model, k)
+    n_nodes = int(_model_of(system_or_model).rods[k].N) + 1
+    titles: list[str] = []
+    units: list[str] = []
+    for flag, _ in _ROD_BLOCKS:
+        if flag in flags:
+            titles += [f"Node{n}{flag}{c}" for n in range(n_nodes) for c in "xyz"]
+            units += [{"p": "(m)", "v": "(m/s)"}.get(flag, "(N)")] * (3 * n_nodes)
+    return titles, units
+
+
+def rod_file_values(system, k: int) -> np.ndarray:
+    """Current values of the per-rod file columns of rod ``k``, in the order of :func:`rod_file_columns`."""
+    if not has_rod_file(system, k):
+        return np.zeros(0)
+    rod = system.rods[k]
+    flags = _rod_flags(system, k)
+    comps = rod.node_force_components()
+    parts = []
+    for flag, what in _ROD_BLOCKS:
+        if flag not in flags:
+            continue
+        if what == "p":
+            parts.append(rod.node_positions().ravel())
+        elif what == "v":
+            parts.append(rod.node_velocities().ravel())
+        elif what == "f":
+            parts.append(rod.node_forces().ravel())
+        else:
+            parts.append(comps[what].ravel())
+    return np.concatenate(parts)
+
+
+def body_file_values(system, i: int) -> np.ndarray:
+    """Row of ``<base>_Body<i+1>.out``: reference-point position [m] and roll, pitch, yaw [deg]."""
+    b = system.bodies[i]
+    return np.concatenate([b.position(), np.degrees(b.angles())])
+
+
+def write_body_out(path, times, values, write_units: bool = True) -> Path:
+    """Write a tab-separated per-body file (spec 2.5): ``Time x y z roll pitch yaw``."""
+    rows = ["Time\tx\ty\tz\troll\tpitch\tyaw\n"]
+    if write_units:
+        rows.append("(s)\t(m)\t(m)\t(m)\t(deg)\t(deg)\t(deg)\n")
+    for t, v in zip(np.asarray(times, dtype=float), np.asarray(values, dtype=float).reshape(-1, 6), strict=True):
+        rows.append("\t".join([f"{t:.4f}"] + [f"{x:.7e}" for x in v]) + "\n")
+    _write_atomic(Path(path), "".join(rows))
+    return Path(path)
 
 
 # ---------------------------------------------------------------------------------------- writers
@@ -595,9 +713,12 @@ class OutputRecorder:
         #: {line index: (titles, units)} for the lines that have a per-line file
         self.line_columns = {i: line_file_columns(system, i) for i in range(len(model.lines))
                              if has_line_file(system, i)}
+        self.rod_columns = {k: rod_file_columns(system, k) for k in range(len(model.rods)) if has_rod_file(system, k)}
         self.times: list[float] = []
         self._main: list[np.ndarray] = []
         self._lines: dict[int, list[np.ndarray]] = {i: [] for i in self.line_columns}
+        self._rods: dict[int, list[np.ndarray]] = {k: [] for k in self.rod_columns}
+        self._bodies: dict[int, list[np.ndarray]] = {i: [] for i in range(len(model.bodies))}
 
     def record(self) -> None:
         """Append one row with the system's current time and values."""
@@ -605,6 +726,10 @@ class OutputRecorder:
         self._main.append(evaluate(self.channels, self.system))
         for i, rows in self._lines.items():
             rows.append(line_file_values(self.system, i))
+        for k, rows in self._rods.items():
+            rows.append(rod_file_values(self.system, k))
+        for i, rows in self._bodies.items():
+            rows.append(body_file_values(self.system, i))
 
     def record_if_due(self, dt: float) -> bool:
         """Record a row if one is due after a step of length ``dt`` [s] (see :func:`output_due`).
@@ -643,6 +768,13 @@ class OutputRecorder:
         for i, (titles, units) in self.line_columns.items():
             written.append(write_line_out(out_dir / f"{base}_Line{i + 1}.out", titles, units, self.times,
                                           self.line_values(i), self.write_units))
+        n = len(self.times)
+        for k, (titles, units) in self.rod_columns.items():
+            written.append(write_table(out_dir / f"{base}_Rod{k + 1}.out", titles, units, self.times,
+                                       np.array(self._rods[k]).reshape(n, len(titles)), write_units=self.write_units))
+        for i, rows in self._bodies.items():
+            written.append(write_body_out(out_dir / f"{base}_Body{i + 1}.out", self.times, np.array(rows).reshape(n, 6),
+                                          self.write_units))
         log.info("wrote %d output file(s) to %s", len(written), out_dir)
         return written
 

@@ -2,11 +2,14 @@
 
 from .system import Model
 from .types import (
+    BODY_KIND_WORDS,
     CONTACT_MODES,
     FRICTION_MODELS,
     POINT_KIND_WORDS,
     Attachment,
     Bathymetry,
+    Body,
+    BodyKind,
     Curve,
     Environment,
     Line,
@@ -18,8 +21,10 @@ from .types import (
     Rod,
     RodKind,
     RodType,
+    angles_xyz,
+    rotation_xyz,
 )
 
-__all__ = ["CONTACT_MODES", "FRICTION_MODELS", "POINT_KIND_WORDS", "Attachment", "Bathymetry", "Curve",
-           "Environment", "Line", "LineType", "Model", "ModelError", "Options", "Point", "PointKind", "Rod", "RodKind",
-           "RodType"]
+__all__ = ["BODY_KIND_WORDS", "CONTACT_MODES", "FRICTION_MODELS", "POINT_KIND_WORDS", "Attachment", "Bathymetry",
+           "Body", "BodyKind", "Curve", "Environment", "Line", "LineType", "Model", "ModelError", "Options", "Point",
+           "PointKind", "Rod", "RodKind", "RodType", "angles_xyz", "rotation_xyz"]

@@ -19,8 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from .types import (
+    BODY_KIND_WORDS,
     POINT_KIND_WORDS,
     Attachment,
+    Body,
+    BodyKind,
     Curve,
     Environment,
     Line,
@@ -42,6 +45,7 @@ class Model:
     line_types: dict[str, LineType] = field(default_factory=dict)
     rod_types: dict[str, RodType] = field(default_factory=dict)
     rods: list[Rod] = field(default_factory=list)
+    bodies: list[Body] = field(default_factory=list)
     points: list[Point] = field(default_factory=list)
     lines: list[Line] = field(default_factory=list)
     env: Environment = field(default_factory=Environment)
@@ -66,32 +70,60 @@ class Model:
         self.rod_types[name] = rt
         return rt
 
-    def add_rod(self, rod_type: str, kind, rA, rB, *, N: int, outputs: str = "") -> tuple[Attachment, Attachment]:
-        """Add a rod and return the attachments of its ends A and B (lines attached to a rod end
-        with bending stiffness are clamped to the rod's direction)."""
-        if isinstance(kind, str):
-            words = {"fixed": RodKind.FIXED, "anchor": RodKind.FIXED}
-            try:
-                kind = words[kind.lower()]
-            except KeyError:
-                raise ModelError(f"unknown or unsupported rod kind {kind!r}; fixed rods are supported") from None
-        self.rods.append(Rod(rod_type, RodKind(kind), rA, rB, int(N), outputs))
-        k = len(self.rods) - 1
-        return Attachment("rod", k, "A"), Attachment("rod", k, "B")
+    def add_body(self, kind, r, angles=(0.0, 0.0, 0.0), *, m=0.0, rCG=(0.0, 0.0, 0.0), I=(0.0, 0.0, 0.0),  # noqa: E741
+                 V=0.0, CdA=(0.0,) * 6, Ca=(0.0, 0.0, 0.0)) -> int:
+        """Add a 6-DOF body and return its index (for ``add_point(..., body=)`` and ``add_rod``).
 
-    def add_point(self, kind, r, *, m=0.0, V=0.0, CdA=0.0, Ca=0.0, F_ext=(0.0, 0.0, 0.0)) -> Attachment:
-        """Add a point and return the :class:`Attachment` that lines use to refer to it.
-
-        ``kind`` is a :class:`PointKind` or one of the words fixed/anchor, coupled/vessel/fairlead,
-        free/connect.
+        ``kind`` is a :class:`BodyKind` or a word: fixed, coupled, coupledpinned, free. See
+        :class:`Body` for the other arguments (``angles`` in degrees).
         """
         if isinstance(kind, str):
             try:
-                kind = POINT_KIND_WORDS[kind.upper()]
+                kind = BODY_KIND_WORDS[kind.upper()]
             except KeyError:
-                words = sorted(w.lower() for w in POINT_KIND_WORDS)
-                raise ModelError(f"unknown point kind {kind!r}; expected one of {words}") from None
-        self.points.append(Point(PointKind(kind), r, float(m), float(V), float(CdA), float(Ca), F_ext))
+                raise ModelError(f"unknown body kind {kind!r}; expected one of "
+                                 f"{sorted(w.lower() for w in BODY_KIND_WORDS)}") from None
+        self.bodies.append(Body(BodyKind(kind), r, angles, float(m), rCG, I, float(V), CdA, Ca))
+        return len(self.bodies) - 1
+
+    def add_rod(self, rod_type: str, kind, rA, rB, *, N: int, outputs: str = "",
+                body: int | None = None) -> tuple[Attachment, Attachment]:
+        """Add a rod and return the attachments of its ends A and B (lines attached to a rod end
+        with bending stiffness are clamped to the rod's direction).
+
+        ``kind`` is a :class:`RodKind` or a word: fixed, pinned, coupled, coupledpinned, free,
+        body, bodypinned. For rods on a body (``body`` = its index) the end coordinates are in body
+        axes relative to its reference point.
+        """
+        if isinstance(kind, str):
+            words = {"fixed": RodKind.FIXED, "anchor": RodKind.FIXED, "pinned": RodKind.PINNED,
+                     "coupled": RodKind.COUPLED, "vessel": RodKind.COUPLED, "coupledpinned": RodKind.COUPLED_PINNED,
+                     "free": RodKind.FREE, "body": RodKind.BODY, "bodypinned": RodKind.BODY_PINNED}
+            try:
+                kind = words[kind.lower()]
+            except KeyError:
+                raise ModelError(f"unknown rod kind {kind!r}; expected one of {sorted(words)}") from None
+        self.rods.append(Rod(rod_type, RodKind(kind), rA, rB, int(N), outputs, body))
+        k = len(self.rods) - 1
+        return Attachment("rod", k, "A"), Attachment("rod", k, "B")
+
+    def add_point(self, kind, r, *, m=0.0, V=0.0, CdA=0.0, Ca=0.0, F_ext=(0.0, 0.0, 0.0),
+                  body: int | None = None) -> Attachment:
+        """Add a point and return the :class:`Attachment` that lines use to refer to it.
+
+        ``kind`` is a :class:`PointKind` or one of the words fixed/anchor, coupled/vessel/fairlead,
+        free/connect, body (then ``body`` is the body's index and ``r`` is in body axes).
+        """
+        if isinstance(kind, str):
+            if kind.upper() == "BODY":
+                kind = PointKind.BODY
+            else:
+                try:
+                    kind = POINT_KIND_WORDS[kind.upper()]
+                except KeyError:
+                    words = sorted(w.lower() for w in POINT_KIND_WORDS)
+                    raise ModelError(f"unknown point kind {kind!r}; expected one of {words} or body") from None
+        self.points.append(Point(PointKind(kind), r, float(m), float(V), float(CdA), float(Ca), F_ext, body))
         return Attachment("point", len(self.points) - 1)
 
     def add_line(self, line_type: str, end_a: Attachment, end_b: Attachment, *, L: float, N: int,
@@ -103,26 +135,53 @@ class Model:
 
     # ------------------------------------------------------------------ queries
     def end_position(self, att: Attachment) -> np.ndarray:
-        """Initial position [m] of an attachment."""
+        """Initial (deck-pose) global position of an attachment [m]."""
         if att.kind == "point":
-            return self.points[att.index].r.copy()
-        rod = self.rods[att.index]
-        return (rod.rA if att.end == "A" else rod.rB).copy()
+            return self.point_position(att.index)
+        rA, rB = self.rod_ends(att.index)
+        return rA if att.end == "A" else rB
+
+    def point_position(self, i: int) -> np.ndarray:
+        """Deck-pose global position of point ``i`` [m]."""
+        p = self.points[i]
+        if p.kind == PointKind.BODY:
+            return self.bodies[p.body].to_global(p.r)
+        return p.r.copy()
+
+    def rod_ends(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """Deck-pose global positions of the ends A and B of rod ``k`` [m]."""
+        rod = self.rods[k]
+        if rod.kind in (RodKind.BODY, RodKind.BODY_PINNED):
+            b = self.bodies[rod.body]
+            return b.to_global(rod.rA), b.to_global(rod.rB)
+        return rod.rA.copy(), rod.rB.copy()
 
     @property
     def coupled_points(self) -> list[int]:
-        """Indices of coupled points, in point order (their 3 DOF each form the coupled vector)."""
+        """Indices of coupled points, in point order."""
         return [i for i, p in enumerate(self.points) if p.kind == PointKind.COUPLED]
 
     @property
+    def coupled_bodies(self) -> list[int]:
+        return [i for i, b in enumerate(self.bodies) if b.kind in (BodyKind.COUPLED, BodyKind.COUPLED_PINNED)]
+
+    @property
+    def coupled_rods(self) -> list[int]:
+        return [i for i, r in enumerate(self.rods) if r.kind in (RodKind.COUPLED, RodKind.COUPLED_PINNED)]
+
+    @property
     def n_coupled_dof(self) -> int:
-        return 3 * len(self.coupled_points)
+        """Coupled bodies and rods take 6 DOF (x, y, z, roll, pitch, yaw), their pinned variants
+        3 (x, y, z), coupled points 3; in the order bodies, rods, points (MoorDyn's order)."""
+        n = sum(6 if self.bodies[i].kind == BodyKind.COUPLED else 3 for i in self.coupled_bodies)
+        n += sum(6 if self.rods[i].kind == RodKind.COUPLED else 3 for i in self.coupled_rods)
+        return n + 3 * len(self.coupled_points)
 
     # ------------------------------------------------------------------ checks
     def validate(self) -> None:
         """Raise :class:`ModelError` naming the first inconsistency found."""
-        if not self.lines:
-            raise ModelError("the model has no lines")
+        if not (self.lines or self.rods or self.bodies):
+            raise ModelError("the model has no lines, rods or bodies")
         for name, lt in self.line_types.items():
             if lt.d <= 0:
                 raise ModelError(f"line type {name!r}: diameter must be > 0, got {lt.d}")
@@ -152,8 +211,10 @@ class Model:
         for k, rod in enumerate(self.rods, 1):
             if rod.rod_type not in self.rod_types:
                 raise ModelError(f"rod {k}: unknown rod type {rod.rod_type!r}")
-            if rod.kind != RodKind.FIXED:
-                raise ModelError(f"rod {k}: {rod.kind.name.lower()} rods are not supported yet (fixed rods are)")
+            on_body = rod.kind in (RodKind.BODY, RodKind.BODY_PINNED)
+            if on_body and (rod.body is None or not 0 <= rod.body < len(self.bodies)):
+                raise ModelError(f"rod {k}: attached to body {None if rod.body is None else rod.body + 1}, "
+                                 f"which does not exist ({len(self.bodies)} bodies)")
             if rod.N < 0:
                 raise ModelError(f"rod {k}: number of segments must be >= 0, got {rod.N}")
             if rod.N > 0 and rod.length == 0:
@@ -163,12 +224,17 @@ class Model:
                 raise ModelError(f"rod type {name!r}: diameter must be > 0 and mass per length >= 0")
         attached = {a.index for ln in self.lines for a in (ln.end_a, ln.end_b) if a.kind == "point"}
         for i, p in enumerate(self.points):
-            if p.kind == PointKind.BODY:
-                raise ModelError(f"point {i + 1}: body-attached points need bodies (not supported yet)")
+            if p.kind == PointKind.BODY and (p.body is None or not 0 <= p.body < len(self.bodies)):
+                raise ModelError(f"point {i + 1}: attached to body {None if p.body is None else p.body + 1}, "
+                                 f"which does not exist ({len(self.bodies)} bodies)")
             if p.kind == PointKind.FREE and i not in attached and p.m + self.env.rho * p.Ca * p.V <= 0:
                 raise ModelError(f"point {i + 1}: a free point with no mass and no lines cannot move")
             if p.m < 0 or p.V < 0 or p.CdA < 0 or p.Ca < 0:
                 raise ModelError(f"point {i + 1}: mass, volume, CdA and Ca must be >= 0")
+        for i, b in enumerate(self.bodies, 1):
+            if b.m < 0 or b.V < 0 or np.any(b.I < 0) or np.any(b.CdA < 0) or np.any(b.Ca < 0):
+                raise ModelError(f"body {i}: mass, inertia, volume, CdA and Ca must be >= 0")
+        self._check_free_rigid()
         if self.env.rho <= 0 or self.env.g <= 0:
             raise ModelError("rho and g must be > 0")
         if self.env.depth < 0:
@@ -188,6 +254,23 @@ class Model:
                 raise ModelError(f"{name} must be > 0, got {getattr(e, name)}")
         if e.kShear is not None and e.kShear <= 0:
             raise ModelError(f"kShear must be > 0, got {e.kShear}")
+
+    def _check_free_rigid(self) -> None:
+        """A free body or rod must have some mass to move."""
+        rho = self.env.rho
+        for i, b in enumerate(self.bodies):
+            if b.kind != BodyKind.FREE:
+                continue
+            has = b.m + rho * float(np.max(b.Ca)) * b.V > 0 or np.min(b.I) > 0
+            kids = any(p.kind == PointKind.BODY and p.body == i for p in self.points) or \
+                any(r.body == i and r.kind in (RodKind.BODY, RodKind.BODY_PINNED) for r in self.rods)
+            if not has and not kids:
+                raise ModelError(f"body {i + 1}: a free body with no mass, inertia, added mass or attached "
+                                 "rods and points cannot move")
+        for k, rod in enumerate(self.rods, 1):
+            if rod.kind == RodKind.FREE and rod.N > 0 and self.rod_types[rod.rod_type].w <= 0 and \
+                    self.rod_types[rod.rod_type].Ca <= 0:
+                raise ModelError(f"rod {k}: a free rod with no mass and no added mass cannot move")
 
 
 def _num_or_curve(v):

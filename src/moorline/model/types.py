@@ -258,6 +258,129 @@ class Rod:
         return (self.rB - self.rA) / L if L > 0 else np.zeros(3)
 
 
+class BodyKind(IntEnum):
+    """How a body moves (MoorDyn's body attachment words)."""
+
+    FIXED = 0
+    COUPLED = 1
+    COUPLED_PINNED = 2
+    FREE = 3
+
+
+#: body attachment words of MoorDyn decks (upper case); any other word means a free body
+BODY_KIND_WORDS = {
+    "ANCHOR": BodyKind.FIXED, "FIXED": BodyKind.FIXED, "FIX": BodyKind.FIXED,
+    "VESSEL": BodyKind.COUPLED, "VES": BodyKind.COUPLED, "COUPLED": BodyKind.COUPLED, "CPLD": BodyKind.COUPLED,
+    "VESSELPINNED": BodyKind.COUPLED_PINNED, "VESPIN": BodyKind.COUPLED_PINNED,
+    "CPLDPIN": BodyKind.COUPLED_PINNED, "COUPLEDPINNED": BodyKind.COUPLED_PINNED,
+    "FREE": BodyKind.FREE, "BODY": BodyKind.FREE,
+}
+
+
+@dataclass
+class Body:
+    """A 6-DOF rigid body (one row of BODIES).
+
+    Parameters
+    ----------
+    kind : BodyKind
+    r : array_like (3,)
+        Reference-point position [m].
+    angles : array_like (3,)
+        Roll, pitch, yaw [deg]: the rotation Rx(roll) Ry(pitch) Rz(yaw) from body to global axes.
+    m : float
+        Mass [kg] (without attached rods and points).
+    rCG : array_like (3,)
+        Centre of gravity relative to the reference point, body axes [m].
+    I : array_like (3,)
+        Principal moments of inertia about the CG [kg m^2].
+    V : float
+        Displaced volume of the body itself [m^3].
+    CdA : array_like (6,)
+        Drag coefficient times area for the x, y, z translations and rotations [m^2] (the
+        rotational entries multiply the angular velocity squared, as in MoorDyn).
+    Ca : array_like (3,)
+        Added-mass coefficients on rho V along the body x, y, z axes [-].
+
+    For fixed and coupled bodies MoorDyn discards mass, volume, inertia, CdA and Ca: only the
+    attached rods and points carry mass and loads. moorline does the same.
+    """
+
+    kind: BodyKind
+    r: np.ndarray
+    angles: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    m: float = 0.0
+    rCG: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    I: np.ndarray = field(default_factory=lambda: np.zeros(3))  # noqa: E741
+    V: float = 0.0
+    CdA: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    Ca: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self):
+        self.kind = BodyKind(self.kind)
+        self.r = np.asarray(self.r, dtype=float).reshape(3)
+        self.angles = np.asarray(self.angles, dtype=float).reshape(3)
+        self.rCG = _vec(self.rCG, 3, "rCG")
+        self.I = _vec(self.I, 3, "I")
+        self.CdA = _vec(self.CdA, 6, "CdA")
+        self.Ca = _vec(self.Ca, 3, "Ca")
+        self.m = float(self.m)
+        self.V = float(self.V)
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """Rotation matrix (body to global axes) of the deck pose, shape (3, 3)."""
+        return rotation_xyz(np.radians(self.angles))
+
+    def to_global(self, r_rel) -> np.ndarray:
+        """Deck-pose global position of a point given in body axes [m]."""
+        return self.r + self.rotation @ np.asarray(r_rel, dtype=float)
+
+    @property
+    def has_inertia(self) -> bool:
+        """Free and coupled-pinned bodies keep their own mass properties."""
+        return self.kind in (BodyKind.FREE, BodyKind.COUPLED_PINNED)
+
+
+def rotation_xyz(angles) -> np.ndarray:
+    """Rotation matrix Rx(roll) Ry(pitch) Rz(yaw) (intrinsic X-Y-Z, MoorDyn's convention).
+
+    Parameters
+    ----------
+    angles : array_like (3,)
+        Roll, pitch, yaw [rad].
+    """
+    r, p, y = (float(a) for a in angles)
+    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    Rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    Ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+    Rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    return Rx @ Ry @ Rz
+
+
+def angles_xyz(R) -> np.ndarray:
+    """Roll, pitch, yaw [rad] of a rotation matrix R = Rx(roll) Ry(pitch) Rz(yaw), pitch in
+    [-pi/2, pi/2] (the inverse of :func:`rotation_xyz`)."""
+    R = np.asarray(R, dtype=float)
+    pitch = math.asin(max(-1.0, min(1.0, R[0, 2])))
+    if abs(R[0, 2]) < 1.0 - 1e-12:
+        roll = math.atan2(-R[1, 2], R[2, 2])
+        yaw = math.atan2(-R[0, 1], R[0, 0])
+    else:  # gimbal lock: only roll + yaw (or roll - yaw) is defined; put it all in roll
+        roll = math.atan2(R[2, 1], R[1, 1])
+        yaw = 0.0
+    return np.array([roll, pitch, yaw])
+
+
+def _vec(v, n, name) -> np.ndarray:
+    a = np.asarray(v, dtype=float).ravel()
+    if a.size == 1:
+        a = np.full(n, a[0])
+    if a.size != n:
+        raise ValueError(f"{name}: expected 1 or {n} values, got {a.size}")
+    return a
+
+
 @dataclass(frozen=True)
 class Attachment:
     """What a line end is attached to: a point (``kind='point'``) or a rod end.
