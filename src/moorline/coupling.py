@@ -528,7 +528,8 @@ class System:
 
     def _solve_ic(self) -> None:
         opts = self.model.options
-        L, R, P, E, B, W = self._kernel_arrays()
+        L, R, P, _, B, W = self._kernel_arrays()
+        E = self.layout.env_ic  # waves off, current on (spec 6.1)
         if opts.ICgenDynamic:
             ok, tic, bad = dynamic_relaxation(self.y, self.dtM, int(self.scheme), self.scheme_params, opts.dtIC,
                                               opts.TmaxIC, opts.threshIC, opts.CdScaleIC, L, R, P, E, B,
@@ -679,6 +680,37 @@ class System:
             B.anchor[...] = self.work.r
             B.slip[...] = 0.0
             self._evaluate()
+
+    # ------------------------------------------------------------------ external water kinematics
+    @property
+    def n_water_nodes(self) -> int:
+        """Number of points whose water kinematics an outer program sets (MoorDyn's
+        ``ExternalWaveKinInit``): every line node, every rod node, every point, the ground body and
+        every body."""
+        return int(self.layout.env.water.U_ext.shape[0]) or (
+            self.work.r.shape[0] + self.work.rn_r.shape[0] + len(self.points) + 1 + len(self.bodies))
+
+    def water_node_positions(self) -> np.ndarray:
+        """Current positions of the water-kinematics points [m], shape (n_water_nodes, 3), in
+        MoorDyn's order (``ExternalWaveKinGetCoordinates``): line nodes (line by line, node 0 to N),
+        rod nodes, points, the ground body (origin), bodies."""
+        w = self.work
+        return np.vstack([w.r, w.rn_r, w.pr, np.zeros((1, 3)), w.br])
+
+    def set_water_kinematics(self, U, Ud) -> None:
+        """Set the water velocity [m/s] and acceleration [m/s^2] at every water-kinematics point
+        (shape (n_water_nodes, 3), order of :meth:`water_node_positions`); they hold until the next
+        call (MoorDyn's ``ExternalWaveKinSet``). Needs ``WaveKin 1`` (external waves) in the model."""
+        K = self.layout.env.water
+        if K.U_ext.shape[0] == 0:
+            raise RuntimeError("the model has no external water kinematics: set WaveKin 1 in the deck or "
+                               "env.waves = Waves.external()")
+        U = np.asarray(U, dtype=float)
+        Ud = np.asarray(Ud, dtype=float)
+        if U.shape != K.U_ext.shape or Ud.shape != K.Ud_ext.shape:
+            raise ValueError(f"U and Ud must have shape {K.U_ext.shape}, got {U.shape} and {Ud.shape}")
+        K.U_ext[...] = U
+        K.Ud_ext[...] = Ud
 
     def set_rod_state(self, k: int, *, end_a=None, axis=None, velocity=None, angular_velocity=None) -> None:
         """Overwrite the state of rod ``k`` (0-based): end-A position [m] and velocity [m/s] of a

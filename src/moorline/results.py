@@ -34,6 +34,9 @@ def model_hash(model) -> str:
 def _environment_summary(env) -> dict:
     """The environment as JSON-ready values; a bathymetry grid is named by its source and size."""
     out = asdict(env)
+    for key in ("waves", "current"):
+        w = getattr(env, key)
+        out[key] = getattr(w, "source", "") or (type(w).__name__ if w is not None else None)
     b = env.bathymetry
     if b is not None:
         out["bathymetry"] = {"source": b.source, "nx": int(b.x.size), "ny": int(b.y.size),

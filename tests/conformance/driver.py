@@ -221,11 +221,24 @@ def run_case(name: str, *, own_ic: bool = False, out_dir: Path | None = None, en
 
     rows = [sample(0.0)]
     motion = traj.as_motion()
+    ext = spec.get("external_waves")
+    kin = gr.airy_lowe_langley(ext) if ext else None
     t1 = time.perf_counter()
-    for k in range(every, nsteps + 1, every):
-        system.advance_to(k * dt, motion)
-        cf[0] = system.coupled_forces()
-        rows.append(sample(k * dt))
+    if kin is None:
+        for k in range(every, nsteps + 1, every):
+            system.advance_to(k * dt, motion)
+            cf[0] = system.coupled_forces()
+            rows.append(sample(k * dt))
+    else:
+        # MoorDyn's external kinematics: at the start of every outer step, evaluated at the points'
+        # current positions at mid-step, held during the step
+        for k in range(nsteps):
+            u, a = kin(k * dt + 0.5 * dt, system.water_node_positions())
+            system.set_water_kinematics(u, a)
+            system.advance_to((k + 1) * dt, motion)
+            cf[0] = system.coupled_forces()
+            if (k + 1) % every == 0:
+                rows.append(sample((k + 1) * dt))
     t_run = time.perf_counter() - t1
     ser_path = out_dir / f"{name}{tag}_series.csv"
     with open(ser_path, "w") as f:

@@ -210,7 +210,8 @@ def test_fixed_rod_and_clamped_line():
 def test_empty_bodies_section_is_harmless():
     m = read_deck(conformance_deck("current_dynamic/test_dynamic_currents.txt"))
     assert len(m.lines) == 1
-    assert m.options.not_acted_on == {"Currents": "2"}
+    assert m.options.not_acted_on == {}
+    assert m.env.current is not None and m.env.waves is None  # Currents 2: current_profile_dynamic.txt
     assert m.options.CdScaleIC == 4.0  # alias ICDfac
     assert (m.env.kBot, m.env.cBot) == (3.0e6, 3.0e5)  # aliases kb, cb
 
@@ -459,18 +460,31 @@ def test_repeated_option_last_wins():
 
 def test_not_acted_on_options_warn_once(caplog):
     extra = """\
-2        WaveKin
-1        Currents
-1        Currents    again: one warning per key
+2        UnifyCurrentGrid
 state.bin ICfile
+state2.bin fileIC    again: one warning per key
 """
     with caplog.at_level(logging.DEBUG, logger="moorline.io"):
         m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n" + extra), path="x.txt")
-    assert m.options.not_acted_on == {"WaveKin": "2", "Currents": "1", "fileIC": "state.bin"}
+    assert m.options.not_acted_on == {"UnifyCurrentGrid": "2", "fileIC": "state2.bin"}
     warnings = [r for r in caplog.records if r.levelno == logging.WARNING]
-    assert len(warnings) == 3
-    assert sum("Currents" in r.getMessage() for r in warnings) == 1
+    assert len(warnings) == 2
+    assert sum("fileIC" in r.getMessage() or "ICfile" in r.getMessage() for r in warnings) == 1
     assert all("x.txt" in r.getMessage() for r in warnings)
+
+
+def test_wave_and_current_options_need_their_files(tmp_path):
+    deck = tmp_path / "w.txt"
+    deck.write_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n7        WaveKin\n"))
+    with pytest.raises(DeckError, match="WaveKin 7 needs the file wave_frequencies.txt") as ei:
+        read_deck(deck)
+    assert ei.value.field == "WaveKin" and "w.txt" in str(ei.value)
+    (tmp_path / "wave_frequencies.txt").write_text("0 0 0\n0.6 0.5 0.0\n")
+    m = read_deck(deck)
+    assert m.env.waves is not None and m.env.waves.evaluation == "sum"
+    deck.write_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n1        Currents\n"))
+    with pytest.raises(DeckError, match="current_profile.txt"):
+        read_deck(deck)
 
 
 def test_neutral_not_acted_on_options_do_not_warn(caplog):
@@ -486,8 +500,9 @@ def test_neutral_not_acted_on_options_do_not_warn(caplog):
     with caplog.at_level(logging.DEBUG, logger="moorline.io"):
         m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n" + extra))
     assert m.options.not_acted_on == {}
+    assert m.env.waves is None and m.env.current is None
     assert not [r for r in caplog.records if r.levelno >= logging.WARNING]
-    assert "WaveKin" in caplog.text  # still mentioned at debug level
+    assert "disableOutTime" in caplog.text  # still mentioned at debug level
 
 
 def test_unknown_option_warns_with_file_line_and_key(caplog):
@@ -672,7 +687,7 @@ def test_round_trip_everything(tmp_path):
     m.add_line("viv2", c, a, L=700.0, N=30)
     m.env.depth, m.env.mu, m.env.rho = 200.0, 0.4, 1027.5
     m.options.dtM, m.options.tScheme, m.options.ICgenDynamic = 2e-4, "RK4", 1
-    m.options.not_acted_on = {"WaveKin": "7"}
+    m.options.not_acted_on = {"inertialF": "1"}
     m.env.bathymetry = Bathymetry([0.0, 50.0, 100.0], [-5.0, 5.0], [[-40.0, -35.5, -30.25], [-41.0, -36.0, -31.0]])
     m.env.friction, m.env.contact, m.env.kShear = "stickslip", "vertical", 2.5e5
     m.env.depth = m.env.bathymetry.mean_depth  # a deck with a grid has the grid's mean depth

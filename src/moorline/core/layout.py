@@ -150,6 +150,7 @@ class EnvArrays(NamedTuple):
     cv: float  # creep damping of the saturated models [N s/m]
     kshear: float  # stick-slip friction spring stiffness per contact area [Pa/m]
     cshear: float  # stick-slip friction spring damping per contact area [Pa s/m]
+    water: object  # core.waterkin.WaterKin: waves and current
 
 
 class Seabed(NamedTuple):
@@ -210,6 +211,8 @@ class Work(NamedTuple):
     br: np.ndarray  # (n_bodies, 3) reference-point positions
     bv: np.ndarray  # (n_bodies, 3)
     bw: np.ndarray  # (n_bodies, 3) angular velocities (global axes)
+    bU: np.ndarray  # (n_bodies, 3) water velocity at the reference points
+    fk: np.ndarray  # (max objects, 8) scratch of the water-kinematics kernel
     b6F: np.ndarray  # (n_bodies, 6) net force and moment about the reference point
     b6M: np.ndarray  # (n_bodies, 6, 6)
     bacc: np.ndarray  # (n_bodies, 6)
@@ -254,6 +257,7 @@ class Layout:
     coupled_points: list  # point indices in coupled-DOF order
     coupled_rods: list
     coupled_bodies: list
+    env_ic: EnvArrays  # env with the water kinematics of the initial-condition solve (waves off)
 
     @property
     def n_state(self) -> int:
@@ -288,8 +292,9 @@ class Layout:
                     rodv=z((nr, 2, 3)), rodq=z((nr, 3)), rodw=z((nr, 3)), rodF=z((nr, 2, 3)), rodEM=z((2 * nr, 3, 3)),
                     rodMext=z((nr, 3)), rod6F=z((nr, 6)), rod6M=z((nr, 6, 6)), rodacc=z((nr, 6)), rn_r=z((nrn, 3)),
                     rn_v=z((nrn, 3)), rn_U=z((nrn, 3)), rn_Ud=z((nrn, 3)), rn_zeta=z(nrn), rn_pd=z(nrn),
-                    rn_F=z((nrn, 9, 3)), rn_M=z((nrn, 3, 3)), rn_vof=z(nrn), bR=z((nb, 3, 3)), br=z((nb, 3)), bv=z((nb, 3)),
-                    bw=z((nb, 3)), b6F=z((nb, 6)), b6M=z((nb, 6, 6)), bacc=z((nb, 6)), pr=z((npnt, 3)), pv=z((npnt, 3)),
+                    rn_F=z((nrn, 9, 3)), rn_M=z((nrn, 3, 3)), rn_vof=z(nrn), bR=z((nb, 3, 3)), br=z((nb, 3)),
+                    bv=z((nb, 3)), bw=z((nb, 3)), bU=z((nb, 3)), fk=z((max(nn, nrn, npnt, nb, 1), 8)),
+                    b6F=z((nb, 6)), b6M=z((nb, 6, 6)), bacc=z((nb, 6)), pr=z((npnt, 3)), pv=z((npnt, 3)),
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
                     ac=z(nc))
 
@@ -445,8 +450,11 @@ def build_layout(model: Model) -> Layout:
     fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
     contact = CONTACT_NORMAL if e.contact == "normal" else CONTACT_VERTICAL
     kshear = float(e.kShear) if e.kShear is not None else float(e.kBot)
-    env = EnvArrays(float(e.g), float(e.rho), effective_depth(model), float(e.kBot), float(e.cBot), contact, fric,
-                    float(muT), float(muA), float(mc), float(cv), kshear, float(e.cBot))
+    depth = effective_depth(model)
+    n_ext = nn + int(rigid.rod_node_ptr[-1]) + npnt + len(model.bodies) + 1
+    water, water_ic = _water(model, depth, n_ext)
+    env = EnvArrays(float(e.g), float(e.rho), depth, float(e.kBot), float(e.cBot), contact, fric,
+                    float(muT), float(muA), float(mc), float(cv), kshear, float(e.cBot), water)
     b = e.bathymetry
     if b is None:
         grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
@@ -454,7 +462,34 @@ def build_layout(model: Model) -> Layout:
         grid = (b.x.copy(), b.y.copy(), b.z.copy())
     seabed = Seabed(*grid, np.zeros((nn, 3)), np.zeros((nn, 2)), np.zeros(3, dtype=np.int64))
     return Layout(lines, rigid, points, env, seabed, row, nblk, off, N, line_L,
-                  [ln.line_type for ln in model.lines], model.coupled_points, model.coupled_rods, model.coupled_bodies)
+                  [ln.line_type for ln in model.lines], model.coupled_points, model.coupled_rods, model.coupled_bodies,
+                  env._replace(water=water_ic))
+
+
+def _water(model: Model, depth: float, n_ext: int):
+    """The water kinematics (:class:`~moorline.core.waterkin.WaterKin`) of the run and of the
+    initial-condition solve (waves off, current on, as MoorDyn does, spec 6.1)."""
+    from .waterkin import build_water_kinematics, still_water  # (waterkin imports seabed, which imports layout)
+
+    e = model.env
+    if e.waves is None and e.current is None:
+        still = still_water(max(depth, 1e-9), e.g, e.rho)
+        return still, still
+    pts = [model.end_position(a) for ln in model.lines for a in (ln.end_a, ln.end_b)]
+    pts += [model.point_position(i) for i in range(len(model.points))]
+    pts += [r for k in range(len(model.rods)) for r in model.rod_ends(k)]
+    pts += [b.r for b in model.bodies]
+    pts = np.array(pts, dtype=float).reshape(-1, 3)
+    reach = max([ln.L for ln in model.lines] + [1.0]) * 0.5
+    lo = np.minimum(pts.min(axis=0) - reach, [np.inf, np.inf, -depth])
+    hi = np.maximum(pts.max(axis=0) + reach, [-np.inf, -np.inf, 0.0])
+    lo[2] = -depth
+    bbox = np.array([lo, hi])
+    bathy = e.bathymetry
+    kw = dict(depth=depth, g=e.g, rho=e.rho, bbox=bbox, bathymetry=bathy)
+    water = build_water_kinematics(e.waves, e.current, n_external=n_ext, **kw)
+    water_ic = build_water_kinematics(None, e.current, n_external=n_ext, **kw)
+    return water, water_ic
 
 
 def quat_from_matrix(R: np.ndarray) -> np.ndarray:

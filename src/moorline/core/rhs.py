@@ -23,6 +23,7 @@ from .rigid import (
     rod_nodes,
     zero_length_axes,
 )
+from .waterkin import WAVES_EXTERNAL, fluid_at, fluid_at_points
 
 
 @njit(cache=True, error_model="numpy")
@@ -130,6 +131,52 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
                     v[n, c] = rodv[k, e, c]
 
 
+@njit(cache=True, error_model="numpy")
+def set_water(t, K, W):
+    """Water velocity and acceleration, surface elevation (and dynamic pressure at rod nodes) at
+    every line node, rod node, point and body reference point at time ``t`` (spec 4). External
+    kinematics (MoorDyn's WaveKin 1) come from ``K.U_ext``/``K.Ud_ext`` in MoorDyn's node order:
+    line nodes, rod nodes, points, the ground body, bodies."""
+    fk = W.fk
+    nn = W.r.shape[0]
+    ext = K.wave_mode == WAVES_EXTERNAL
+    fluid_at_points(t, W.r, K, fk)
+    for n in range(nn):
+        for c in range(3):
+            W.U[n, c] = fk[n, c]
+            W.Ud[n, c] = fk[n, 3 + c]
+        W.zeta[n] = fk[n, 6]
+    off = nn
+    for group in range(3):
+        r = W.rn_r if group == 0 else (W.pr if group == 1 else W.br)
+        m = r.shape[0]
+        if group == 2:
+            off += 1  # MoorDyn's ground body
+        if m == 0:
+            continue
+        if ext:
+            for i in range(m):
+                fluid_at(t, r[i, 0], r[i, 1], r[i, 2], K, fk[i])
+                for c in range(3):
+                    fk[i, c] += K.U_ext[off + i, c]
+                    fk[i, 3 + c] += K.Ud_ext[off + i, c]
+        else:
+            fluid_at_points(t, r, K, fk)
+        for i in range(m):
+            for c in range(3):
+                if group == 0:
+                    W.rn_U[i, c] = fk[i, c]
+                    W.rn_Ud[i, c] = fk[i, 3 + c]
+                elif group == 1:
+                    W.pU[i, c] = fk[i, c]
+                else:
+                    W.bU[i, c] = fk[i, c]
+            if group == 0:
+                W.rn_zeta[i] = fk[i, 6]
+                W.rn_pd[i] = fk[i, 7]
+        off += m
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def point_loads(P, E, W, cd_scale):
     """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
@@ -176,6 +223,9 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
         Piece of the coupled trajectory to evaluate (-1: the piece holding ``t``).
     """
     set_kinematics(t, y, L, R, P, Mo, W, piece)
+    K = E.water
+    if K.wave_mode != 0 or K.current_mode != 0:
+        set_water(t, K, W)
     rodF = W.rodF
     rodEM = W.rodEM
     rodMext = W.rodMext

@@ -139,7 +139,11 @@ def _rigid_modes(model: Model, layout: Layout) -> list[Mode]:
                     m += 0.5 * lt.w * l0
         if stiff > 0 and m > 0:
             modes.append(Mode(f"rod {k + 1}", "rod on its lines", math.sqrt(stiff / m)))
-        if rod.N > 0 and rt.w > 0:
+        rA, rB = model.rod_ends(k)
+        bathy = model.env.bathymetry
+        zb = max((bathy.height(r[0], r[1]) if bathy is not None else -E.depth) for r in (rA, rB))
+        near_seabed = min(rA[2], rB[2]) - zb <= rod.length + rt.d  # within reach of the seabed
+        if rod.N > 0 and rt.w > 0 and near_seabed:
             modes.append(Mode(f"rod {k + 1}", "rod seabed contact stiffness", math.sqrt(E.kBot * rt.d / rt.w)))
             modes.append(Mode(f"rod {k + 1}", "rod seabed contact damping", E.cBot * rt.d / rt.w))
     return modes

@@ -405,9 +405,6 @@ def _never(v, opts):
 #: A neutral value changes nothing and is only logged at debug level; any other value is stored in
 #: ``model.options.not_acted_on`` with one warning.
 NOT_ACTED_ON = {
-    "WaveKin": ((), _equals(0.0)),
-    "dtWave": ((), _always),
-    "Currents": ((), _equals(0.0)),
     "UnifyCurrentGrid": ((), _equals(1.0)),
     "fileIC": (("ICfile",), _never),
     "disableOutTime": ((), _always),
@@ -420,7 +417,8 @@ NOT_ACTED_ON = {
 #: keys handled by _Reader.read_seabed (file names)
 SEABED_FILE_KEYS = ("SeafloorFile",)
 
-_OPTION_KEYS: dict[str, str] = {"seafloorfile": "SeafloorFile"}
+_OPTION_KEYS: dict[str, str] = {"seafloorfile": "SeafloorFile", "wavekin": "WaveKin", "currents": "Currents",
+                                 "dtwave": "dtWave"}
 for _key, _aliases, *_ in OPTION_TABLE:
     for _k in (_key, *_aliases):
         _OPTION_KEYS[_k.lower()] = _key
@@ -719,6 +717,7 @@ class _Reader:
             setattr(self.model.env if target == "env" else self.model.options, attr, v)
             self.option_rows[key] = row
         self.read_seabed(given)
+        self.read_water(given)
         for key, (_aliases, neutral) in NOT_ACTED_ON.items():
             if key not in given:
                 continue
@@ -730,6 +729,46 @@ class _Reader:
             self.model.options.not_acted_on[key] = value
             log.warning("%s, line %d: option %s = %s is read but not acted on by this version of moorline",
                         self.file, row.line, typed, value)
+
+    def read_water(self, given):
+        """WaveKin, Currents and dtWave: the waves and current and the files they name (spec 4.1)."""
+        from .waterkin import DT_WAVE, water_from_options
+
+        def whole(key, default):
+            if key not in given:
+                return default
+            value, row, typed = given[key]
+            self.option_rows[key] = row
+            v = parse_whole(value)
+            if v is None:
+                v = parse_number(value)
+                v = int(v) if v is not None and float(v).is_integer() else None
+            if v is None:
+                raise self.error(f"field {typed!r} of OPTIONS: expected a whole number, got {value!r}", row, typed)
+            return v
+
+        wave_kin = whole("WaveKin", 0)
+        currents = whole("Currents", 0)
+        dt_wave = DT_WAVE
+        if "dtWave" in given:
+            value, row, typed = given["dtWave"]
+            self.option_rows["dtWave"] = row
+            dt_wave = parse_number(value)
+            if dt_wave is None or not dt_wave > 0:
+                raise self.error(f"field {typed!r} of OPTIONS: expected a number > 0, got {value!r}", row, typed)
+        if wave_kin == 0 and currents == 0:
+            return
+        try:
+            waves, current = water_from_options(wave_kin, currents, self.base_dir, self.model.env.depth or None,
+                                                dt_wave=dt_wave)
+        except DeckError as e:
+            key = e.field if e.field in given else ("WaveKin" if "WaveKin" in given else "Currents")
+            row = given[key][1] if key in given else None
+            if e.file is not None and e.file != self.file:
+                raise  # the message names the water-kinematics file and its line
+            raise self.error(f"field {key!r} of OPTIONS: {e}", row, key) from None
+        self.model.env.waves = waves
+        self.model.env.current = current
 
     def read_seabed(self, given):
         """Bathymetry files and the choice of friction model (after the plain options)."""

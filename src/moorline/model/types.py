@@ -537,6 +537,9 @@ class Environment:
     mc: float = 1.0
     cv: float = 200.0
     kShear: float | None = None
+    #: waves (:class:`moorline.model.water.Waves`) and current (:class:`~moorline.model.water.Current`)
+    waves: object | None = None
+    current: object | None = None
 
     def friction_coefficients(self) -> tuple[float, float, float, float]:
         """(mu transverse, mu axial, static/kinetic ratio, creep damping [N s/m]) of the chosen model.
