@@ -743,6 +743,58 @@ def _add_child_to_body(br, b6F, b6M, b, F6, M6, point_only, ax, ay, az, S):
 
 
 @njit(cache=True, error_model="numpy")
+def _rod_inertial(k, R, W, Fe):
+    """Fe = rod k's F6 plus its velocity-dependent inertial loads about end A: the centripetal
+    force -M_i omega x (omega x r_i) of every node (and its moment), and the gyroscopic moment
+    -omega x (I_c omega) of the rotational inertia added beyond the lumped nodes."""
+    for a in range(6):
+        Fe[a] = W.rod6F[k, a]
+    wx = W.rodw[k, 0]
+    wy = W.rodw[k, 1]
+    wz = W.rodw[k, 2]
+    if wx == 0.0 and wy == 0.0 and wz == 0.0:
+        return
+    n0 = R.rod_node_ptr[k]
+    N = R.rod_N[k]
+    for i in range(N + 1):
+        n = n0 + i
+        rx = W.rn_r[n, 0] - W.rodr[k, 0, 0]
+        ry = W.rn_r[n, 1] - W.rodr[k, 0, 1]
+        rz = W.rn_r[n, 2] - W.rodr[k, 0, 2]
+        ox, oy, oz = _cross(wx, wy, wz, rx, ry, rz)
+        cx, cy, cz = _cross(wx, wy, wz, ox, oy, oz)
+        Mi = W.rn_M[n]
+        fx = -(Mi[0, 0] * cx + Mi[0, 1] * cy + Mi[0, 2] * cz)
+        fy = -(Mi[1, 0] * cx + Mi[1, 1] * cy + Mi[1, 2] * cz)
+        fz = -(Mi[2, 0] * cx + Mi[2, 1] * cy + Mi[2, 2] * cz)
+        mx, my, mz = _cross(rx, ry, rz, fx, fy, fz)
+        Fe[0] += fx
+        Fe[1] += fy
+        Fe[2] += fz
+        Fe[3] += mx
+        Fe[4] += my
+        Fe[5] += mz
+    if N > 0:
+        Lr = R.rod_L[k]
+        m = R.rod_w[k] * Lr
+        d = R.rod_d[k]
+        Iax = 0.5 * m * (0.5 * d) ** 2
+        Ic = m * (0.25 * (0.5 * d) ** 2 - Lr * Lr / (6.0 * N * N))
+        qx = W.rodq[k, 0]
+        qy = W.rodq[k, 1]
+        qz = W.rodq[k, 2]
+        wq = wx * qx + wy * qy + wz * qz
+        # I omega = Ic omega + (Iax - Ic) (q . omega) q
+        ix = Ic * wx + (Iax - Ic) * wq * qx
+        iy = Ic * wy + (Iax - Ic) * wq * qy
+        iz = Ic * wz + (Iax - Ic) * wq * qz
+        gx, gy, gz = _cross(wx, wy, wz, ix, iy, iz)
+        Fe[3] -= gx
+        Fe[4] -= gy
+        Fe[5] -= gz
+
+
+@njit(cache=True, error_model="numpy")
 def rigid_dynamics(y, dy, R, P, E, W):
     """After the line, point and rod loads: rod equations of motion (free, pinned) and what rods
     and points pass to their bodies; then body loads and equations of motion; writes the
@@ -761,6 +813,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
     S = np.empty((3, 3))
     rhs3 = np.empty(3)
     x3 = np.empty(3)
+    Fe = np.empty(6)
     # points on bodies
     for p in range(P.kind.size):
         if P.kind[p] != P_BODY:
@@ -777,8 +830,13 @@ def rigid_dynamics(y, dy, R, P, E, W):
         j = R.rod_blk[k]
         for a in range(6):
             acc[a] = 0.0
+        if j >= 0:
+            # a rod turning on its own: the velocity-dependent inertial loads join the forces
+            # (MoorDyn-C leaves them out, spec 3.14.4; a spinning rod then drifts off its
+            # centre-of-mass path, tests/verification/test_rods_bodies.py)
+            _rod_inertial(k, R, W, Fe)
         if kind == ROD_FREE and j >= 0:
-            solve_dense(M6, F6, acc, 6)
+            solve_dense(M6, Fe, acc, 6)
         elif kind == ROD_FREE:
             # zero-length free rod: 3 translational DOF
             for a in range(3):
@@ -795,7 +853,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
                 for a in range(3):
                     acc[a] = W.ac[o + a]
             for a in range(3):
-                s = F6[3 + a]
+                s = Fe[3 + a]
                 for c in range(3):
                     s -= M6[3 + a, c] * acc[c]
                     M3[a, c] = M6[3 + a, 3 + c]
@@ -879,9 +937,9 @@ def rigid_dynamics(y, dy, R, P, E, W):
         F6[4] += gy
         F6[5] += gz
         # drag on the body's translation and rotation, coefficients in body axes
-        ux = -W.bv[i, 0]
-        uy = -W.bv[i, 1]
-        uz = -W.bv[i, 2]
+        ux = W.bU[i, 0] - W.bv[i, 0]
+        uy = W.bU[i, 1] - W.bv[i, 1]
+        uz = W.bU[i, 2] - W.bv[i, 2]
         for part in range(2):
             if part == 1:
                 ux = -wx
