@@ -690,6 +690,16 @@ class System:
         return int(self.layout.env.water.U_ext.shape[0]) or (
             self.work.r.shape[0] + self.work.rn_r.shape[0] + len(self.points) + 1 + len(self.bodies))
 
+    def water_at(self, points, t: float | None = None) -> np.ndarray:
+        """Water kinematics of the model's sea at ``points`` (array_like (n, 3) [m]) at time ``t``
+        [s] (default: now), shape (n, 8): velocity (3) [m/s], acceleration (3) [m/s^2], surface
+        elevation [m], dynamic pressure [Pa]. External kinematics (WaveKin 1) are per node and give
+        only the current here."""
+        from .core.waterkin import fluid_kinematics
+
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        return fluid_kinematics(self.layout.env.water, self.t if t is None else float(t), p)
+
     def water_node_positions(self) -> np.ndarray:
         """Current positions of the water-kinematics points [m], shape (n_water_nodes, 3), in
         MoorDyn's order (``ExternalWaveKinGetCoordinates``): line nodes (line by line, node 0 to N),

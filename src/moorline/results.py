@@ -45,6 +45,10 @@ def _environment_summary(env) -> dict:
     return out
 
 
+def _cat(arrays) -> np.ndarray:
+    return np.concatenate(arrays) if len(arrays) else np.zeros(0)
+
+
 class Recorder:
     """Collects the state of a :class:`~moorline.coupling.System` at output times.
 
@@ -55,15 +59,16 @@ class Recorder:
         Record node positions, velocities, tensions and curvatures (the bulk of the data).
     """
 
-    def __init__(self, system, *, nodes: bool = True):
+    def __init__(self, system, *, nodes: bool = True, probes=None):
         self.system = system
         self.nodes = nodes
+        self.probes = None if probes is None else np.asarray(probes, dtype=float).reshape(-1, 3)
         self.t: list[float] = []
         self.data: dict[str, list] = {k: [] for k in (
             "node_position", "node_velocity", "node_tension", "node_curvature", "segment_tension",
             "segment_strain", "line_tension_a", "line_tension_b", "point_position", "point_velocity",
             "point_force", "coupled_position", "coupled_force", "rod_end_position", "rod_force", "body_pose",
-            "body_velocity", "body_force")}
+            "body_velocity", "body_force", "probe_kinematics")}
 
     def record(self) -> None:
         s = self.system
@@ -73,8 +78,8 @@ class Recorder:
         if self.nodes:
             d["node_position"].append(w.r.copy())
             d["node_velocity"].append(w.v.copy())
-            d["node_tension"].append(np.concatenate([ln.node_tensions() for ln in s.lines]))
-            d["node_curvature"].append(np.concatenate([ln.node_curvatures() for ln in s.lines]))
+            d["node_tension"].append(_cat([ln.node_tensions() for ln in s.lines]))
+            d["node_curvature"].append(_cat([ln.node_curvatures() for ln in s.lines]))
         d["segment_tension"].append(np.linalg.norm(w.T + w.Td, axis=1))
         d["segment_strain"].append(w.seg_len / s.layout.lines.seg_l0 - 1.0)
         d["line_tension_a"].append([ln.anchor_tension() for ln in s.lines])
@@ -87,6 +92,8 @@ class Recorder:
         if s.rods:
             d["rod_end_position"].append(w.rodr.copy())
             d["rod_force"].append(w.rod6F.copy())
+        if self.probes is not None:
+            d["probe_kinematics"].append(s.water_at(self.probes))
         if s.bodies:
             d["body_pose"].append(np.array([b.pose() for b in s.bodies]))
             d["body_velocity"].append(np.concatenate([w.bv, w.bw], axis=1))
@@ -97,12 +104,11 @@ class Recorder:
         lay = s.layout
         nl = len(s.lines)
         node_line = np.repeat(np.arange(1, nl + 1), lay.line_N + 1)
-        node_index = np.concatenate([np.arange(n + 1) for n in lay.line_N])
-        node_s = np.concatenate([np.linspace(0.0, lay.line_L[i], lay.line_N[i] + 1) for i in range(nl)])
+        node_index = _cat([np.arange(n + 1) for n in lay.line_N]).astype(int)
+        node_s = _cat([np.linspace(0.0, lay.line_L[i], lay.line_N[i] + 1) for i in range(nl)])
         seg_line = np.repeat(np.arange(1, nl + 1), lay.line_N)
-        seg_index = np.concatenate([np.arange(1, n + 1) for n in lay.line_N])
-        seg_s = np.concatenate([(np.arange(lay.line_N[i]) + 0.5) * lay.line_L[i] / lay.line_N[i]
-                                for i in range(nl)])
+        seg_index = _cat([np.arange(1, n + 1) for n in lay.line_N]).astype(int)
+        seg_s = _cat([(np.arange(lay.line_N[i]) + 0.5) * lay.line_L[i] / lay.line_N[i] for i in range(nl)])
         d = {k: np.asarray(v) for k, v in self.data.items() if len(v)}
         T = ("time",)
         dv = {}
@@ -129,6 +135,14 @@ class Recorder:
         add("body_velocity", ("body", "dof6"), {"units": "m/s, rad/s", "long_name": "velocity and angular velocity"})
         add("body_force", ("body", "dof6"), {"units": "N, N m", "long_name": "net force and moment about the "
                                              "reference point"})
+        if "probe_kinematics" in d:
+            pk = d.pop("probe_kinematics")
+            d["probe_velocity"], d["probe_acceleration"] = pk[:, :, 0:3], pk[:, :, 3:6]
+            d["probe_elevation"], d["probe_pressure"] = pk[:, :, 6], pk[:, :, 7]
+            add("probe_elevation", ("probe",), {"units": "m", "long_name": "wave surface elevation"})
+            add("probe_velocity", ("probe", "xyz"), {"units": "m/s", "long_name": "water velocity (waves + current)"})
+            add("probe_acceleration", ("probe", "xyz"), {"units": "m/s^2", "long_name": "water acceleration"})
+            add("probe_pressure", ("probe",), {"units": "Pa", "long_name": "wave dynamic pressure"})
         if s.n_coupled_dof:
             add("coupled_position", ("dof",), {"units": "m"})
             add("coupled_force", ("dof",), {"units": "N", "long_name": "load of the mooring on the coupled DOF"})
@@ -153,6 +167,8 @@ class Recorder:
             coords["rod_end"] = ("rod_end", ["A", "B"])
         if s.rods or s.bodies:
             coords["dof6"] = ("dof6", ["x", "y", "z", "rx", "ry", "rz"])
+        if self.probes is not None:
+            coords["probe_position"] = (("probe", "xyz"), self.probes, {"units": "m"})
         if s.bodies:
             coords["body"] = ("body", np.arange(1, len(s.bodies) + 1))
             coords["pose"] = ("pose", ["x", "y", "z", "roll", "pitch", "yaw"])

@@ -54,7 +54,7 @@ def _as_trajectory(sys: System, motion) -> Trajectory:
 
 
 def simulate(system, duration: float, motion=None, *, dt_out: float | None = None, solve_ic: bool = True,
-             record_nodes: bool = True, progress: bool | None = None,
+             record_nodes: bool = True, water_probes=None, progress: bool | None = None,
              on_output: Iterable[Callable[[System], None]] = ()) -> xr.Dataset:
     """Simulate ``duration`` seconds and return the results.
 
@@ -73,6 +73,9 @@ def simulate(system, duration: float, motion=None, *, dt_out: float | None = Non
         Find the initial equilibrium (MoorDyn's IC solver) before the dynamics.
     record_nodes : bool
         Keep node positions, velocities, tensions and curvatures (the bulk of the data).
+    water_probes : array_like (n, 3), optional
+        Points [m] where the wave elevation, water velocity, acceleration and dynamic pressure are
+        recorded (``probe_*`` variables).
     progress : bool, optional
         Show a progress bar (default: when the output is a terminal).
     on_output : callables
@@ -102,7 +105,7 @@ def simulate(system, duration: float, motion=None, *, dt_out: float | None = Non
         t0 = _time.perf_counter()
         sys.init(traj.position(0.0), traj.velocity(0.0), solve_ic=solve_ic)
         log.info("initialisation took %.3g s", _time.perf_counter() - t0)
-    rec = Recorder(sys, nodes=record_nodes)
+    rec = Recorder(sys, nodes=record_nodes, probes=water_probes)
     callbacks = list(on_output)
     rec.record()
     for cb in callbacks:

@@ -130,3 +130,18 @@ def test_line_drag_in_current_matches_integral():
     s.init(solve_ic=False)
     Fx = s.lines[0].node_hydro_forces()[:, 0].sum()
     assert Fx == pytest.approx(0.5 * RHO * 1.1 * 0.08 * U * U * 29.9, rel=1e-9)
+
+
+def test_water_probes_record_the_sea():
+    """Probes in the results give the sea's own kinematics: at a surface probe the elevation of a
+    regular wave is H/2 cos(w t) (crest at the origin at t = 0), the current adds to the velocity."""
+    from moorline import simulate
+
+    s = System(pile_model(Waves.regular(H, T), Current.uniform(0.3, heading=90.0), N=4))
+    ds = simulate(s, 4.0, dt_out=0.5, solve_ic=False, water_probes=[(0.0, 0.0, 0.0), (0.0, 0.0, -20.0)])
+    w = 2.0 * math.pi / T
+    np.testing.assert_allclose(ds.probe_elevation.sel(probe=0), 0.5 * H * np.cos(w * ds.time), atol=1e-9)
+    k = wave_number(w)
+    u, _ = zip(*[airy(float(t), -20.0, k, w, 0.5 * H) for t in ds.time])
+    np.testing.assert_allclose(ds.probe_velocity.isel(probe=1, xyz=0), u, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(ds.probe_velocity.isel(xyz=1), 0.3, rtol=1e-12)
