@@ -74,7 +74,8 @@ def main() -> None:
         s = ds.node_s
         ax1.plot(s, kmax, label=label)
         ax2.plot(ds.time, ds.line_tension_b.sel(line=1) / 1e3, lw=0.8, label=label)
-        print(f"{label:28s} max curvature {float(kmax.max()):.3f} 1/m at s = {float(s[int(np.argmax(kmax.values))]):.1f} m, "
+        s_max = float(s[int(np.argmax(kmax.values))])
+        print(f"{label:28s} max curvature {float(kmax.max()):.3f} 1/m at s = {s_max:.1f} m, "
               f"buoy tension {float(ds.line_tension_b.where(keep, drop=True).min()) / 1e3:.2f}.."
               f"{float(ds.line_tension_b.where(keep, drop=True).max()) / 1e3:.2f} kN, wall {wall:.1f} s")
     ax1.set(xlabel="arc length from the hub s [m]", ylabel="max curvature [1/m]",

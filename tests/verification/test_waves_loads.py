@@ -142,6 +142,6 @@ def test_water_probes_record_the_sea():
     w = 2.0 * math.pi / T
     np.testing.assert_allclose(ds.probe_elevation.sel(probe=0), 0.5 * H * np.cos(w * ds.time), atol=1e-9)
     k = wave_number(w)
-    u, _ = zip(*[airy(float(t), -20.0, k, w, 0.5 * H) for t in ds.time])
+    u = [airy(float(t), -20.0, k, w, 0.5 * H)[0] for t in ds.time]
     np.testing.assert_allclose(ds.probe_velocity.isel(probe=1, xyz=0), u, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(ds.probe_velocity.isel(xyz=1), 0.3, rtol=1e-12)
