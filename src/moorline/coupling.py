@@ -90,6 +90,16 @@ class LineView:
                            4.0 / (ls[:-1] + ls[1:]) * np.sqrt(np.clip(0.5 * (1.0 - c), 0.0, None)), 0.0)
         return k
 
+    def node_bending_moments(self) -> np.ndarray:
+        """Bending moment magnitude at each node [N m], shape (N+1,): EI kappa, or M(kappa) from
+        the moment-curvature table (spec 3.10); zero for lines without EI."""
+        L = self._s.layout.lines
+        k = self.node_curvatures()
+        start, n = int(L.ei_tab[self.index, 0]), int(L.ei_tab[self.index, 1])
+        if n > 0:
+            return np.interp(k, L.tab_x[start:start + n], L.tab_y[start:start + n])
+        return float(L.EI[self.index]) * k
+
     def node_bending_forces(self) -> np.ndarray:
         """Bending forces on each node [N], shape (N+1, 3) (zero for lines without EI)."""
         return self._s.work.Fbend[self._n].copy()

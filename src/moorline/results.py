@@ -65,7 +65,8 @@ class Recorder:
         self.probes = None if probes is None else np.asarray(probes, dtype=float).reshape(-1, 3)
         self.t: list[float] = []
         self.data: dict[str, list] = {k: [] for k in (
-            "node_position", "node_velocity", "node_tension", "node_curvature", "segment_tension",
+            "node_position", "node_velocity", "node_tension", "node_curvature", "node_bending_moment",
+            "segment_tension",
             "segment_strain", "line_tension_a", "line_tension_b", "point_position", "point_velocity",
             "point_force", "coupled_position", "coupled_force", "rod_end_position", "rod_force", "body_pose",
             "body_velocity", "body_force", "probe_kinematics")}
@@ -80,6 +81,7 @@ class Recorder:
             d["node_velocity"].append(w.v.copy())
             d["node_tension"].append(_cat([ln.node_tensions() for ln in s.lines]))
             d["node_curvature"].append(_cat([ln.node_curvatures() for ln in s.lines]))
+            d["node_bending_moment"].append(_cat([ln.node_bending_moments() for ln in s.lines]))
         d["segment_tension"].append(np.linalg.norm(w.T + w.Td, axis=1))
         d["segment_strain"].append(w.seg_len / s.layout.lines.seg_l0 - 1.0)
         d["line_tension_a"].append([ln.anchor_tension() for ln in s.lines])
@@ -121,6 +123,7 @@ class Recorder:
         add("node_velocity", ("node", "xyz"), {"units": "m/s", "long_name": "node velocity"})
         add("node_tension", ("node",), {"units": "N", "long_name": "node tension (mean of adjacent segments)"})
         add("node_curvature", ("node",), {"units": "1/m", "long_name": "curvature"})
+        add("node_bending_moment", ("node",), {"units": "N m", "long_name": "bending moment (0 without EI)"})
         add("segment_tension", ("segment",), {"units": "N", "long_name": "segment tension incl. damping |T+Td|"})
         add("segment_strain", ("segment",), {"units": "1", "long_name": "segment strain"})
         add("line_tension_a", ("line",), {"units": "N", "long_name": "end-A segment tension |T+Td|"})

@@ -270,6 +270,26 @@ def test_cantilever_small_load_linear_theory():
         assert -z == pytest.approx(d_P * (1.0 + 0.5 / N**2) + d_q, rel=5e-4)
 
 
+def test_cantilever_bending_moment_output():
+    """The reported node bending moment (LineView.node_bending_moments, the results'
+    node_bending_moment) is EI kappa, and on the light-tip cantilever it is the statics' moment
+    P (L - s) + q (L - s)^2 / 2 about each interior node (the deflection is 1.6 % of L, so the lever
+    arms are the unstretched distances to 2e-4). Tolerance 2 % of the root moment: the discrete
+    curvature at an interior node is the chain's second difference, exact for the linear
+    moment up to the node's share of the load spread (measured 0.4 %)."""
+    M, N = 100.0, 16
+    s, _, _ = cantilever_static(N, M, ftol=1e-4)
+    ln = s.lines[0]
+    mom = ln.node_bending_moments()
+    np.testing.assert_allclose(mom, CANT_EI * ln.node_curvatures(), rtol=1e-12)
+    P, q = M * G, net_q()
+    sn = np.linspace(0.0, CANT_L, N + 1)  # arc length from the clamped root (end A on the rod)
+    arm = CANT_L - sn
+    want = P * arm + q * arm**2 / 2.0
+    inner = slice(1, N)
+    np.testing.assert_allclose(mom[inner], want[inner], rtol=0, atol=0.02 * want[0])
+
+
 # ------------------------------------------------------------------------------------------------
 # 2. large deflection
 
