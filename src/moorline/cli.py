@@ -3,13 +3,19 @@
     moorline run DECK [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
     moorline statics DECK [--out DIR]
     moorline check DECK
+    moorline sweep STUDY.yaml [--workers N] [--scheduler ADDRESS] [--out DIR] [--no-resume]
+    moorline fatigue RESULT.nc --do 0.040 [--di 0.020] --alpha 6.098e19 --m 6.238 [--unit 1e6]
 
 ``run`` reads a MoorDyn v2 deck, finds the initial equilibrium, imposes the coupled motion and
 writes MoorDyn-style output (``<base>.out`` with the OUTPUTS channels, ``<base>_Line<n>.out`` as the
 line output flags ask) plus a NetCDF file ``<base>.nc`` with everything. Files are written only
 when the run succeeds, each atomically.
 
-Exit codes: 0 success, 2 bad input (deck, motion file, arguments), 3 the simulation failed.
+``sweep`` runs a parametric study (see :mod:`moorline.batch`); ``fatigue`` post-processes one run
+(section stress around the cable, rainflow, S-N damage; see :mod:`moorline.post`).
+
+Exit codes: 0 success, 2 bad input (deck, motion file, study file, arguments), 3 the simulation
+or some sweep cases failed.
 """
 
 from __future__ import annotations
@@ -151,6 +157,85 @@ def cmd_check(args) -> int:
     return 0 if system.dtM <= limit else 1
 
 
+def cmd_sweep(args) -> int:
+    from .batch import StudyError, SweepError, run_sweep
+
+    try:
+        res = run_sweep(args.study, out=args.out, workers=args.workers, scheduler=args.scheduler,
+                        resume=not args.no_resume, progress=False if args.quiet_progress else None)
+    except StudyError as e:
+        print(f"moorline: study error: {e}", file=sys.stderr)
+        return 2
+    except SweepError as e:
+        print(f"moorline: {e}", file=sys.stderr)
+        return 3
+    sm = res.summary
+    print(f"moorline {__version__}: sweep {args.study}: {len(sm)} cases ({res.computed} computed, {res.reused} reused) "
+          f"in {res.wall_time:.1f} s")
+    if "life_years" in sm:
+        params = [c for c in sm.columns if c not in ("case", "wall_time_s") and c in res.dataset.coords]
+        for label, row in (("shortest life", sm.loc[sm.life_years.idxmin()]),
+                           ("longest life", sm.loc[sm.life_years.idxmax()])):
+            where = ", ".join(f"{p}={row[p]}" for p in params) or "base"
+            print(f"  {label}: {row.life_years:.4g} years ({where}) at s = {row.critical_s:.2f} m, "
+                  f"theta = {row.critical_theta:g} deg")
+    for name in ("results.nc", "summary.csv"):
+        print(f"  wrote {res.out_dir / name}")
+    return 0
+
+
+def cmd_fatigue(args) -> int:
+    import xarray as xr
+
+    from .io import read_deck
+    from .post import (
+        SECONDS_PER_YEAR,
+        SNCurve,
+        TubeSection,
+        critical_location,
+        cross_section_stress,
+        envelopes,
+        fatigue_damage,
+        life_years,
+        section_loads,
+    )
+    from .results import write_netcdf
+
+    try:
+        ds = xr.load_dataset(args.results, engine="h5netcdf")
+    except (OSError, ValueError) as e:
+        raise DeckError(f"cannot read results: {e}", file=Path(args.results)) from None
+    deck = args.deck or ds.attrs.get("source")
+    model = read_deck(Path(deck)) if deck else None
+    if model is None and args.EI is None:
+        raise DeckError("the results name no deck: give --deck (or --EI)", file=Path(args.results))
+    if args.start is not None:
+        ds = ds.sel(time=slice(args.start, None))
+    sec = section_loads(ds, args.line, model=model, EI=args.EI)
+    stress = cross_section_stress(sec, TubeSection(args.do, args.di), n_theta=args.n_theta,
+                                  tensile_only=args.tensile_only)
+    curve = SNCurve.one_slope(args.alpha, args.m, endurance=args.endurance, unit=args.unit)
+    dmg = fatigue_damage(stress, curve)
+    dur = dmg.attrs["duration"]
+    crit = critical_location(dmg)
+    env = envelopes(ds, args.line, sections=sec, stress=stress, allowable_bend_radius=args.allowable_bend_radius)
+    per_year = crit["damage"] / dur * SECONDS_PER_YEAR
+    print(f"moorline {__version__}: fatigue of line {sec.attrs['line']} in {args.results} over {dur:.6g} s")
+    print(f"  section do = {args.do} m, di = {args.di} m; {curve.describe()}"
+          f"{'; tensile stress only' if args.tensile_only else ''}")
+    print(f"  critical location: s = {crit['s']:.3f} m from end A, theta = {crit['theta']:g} deg; damage "
+          f"{crit['damage']:.4g} over the record, {per_year:.4g} per year if the record repeats: life "
+          f"{life_years(per_year):.4g} years")
+    print(f"  largest curvature {env.attrs['curvature_max']:.4g} 1/m (bend radius {env.attrs['bend_radius_min']:.4g} m)"
+          f" at s = {env.attrs['curvature_max_s']:.3f} m; tension {env.attrs['tension_min']:.4g} to "
+          f"{env.attrs['tension_max']:.4g} N")
+    if args.out:
+        out = xr.Dataset({"damage": dmg, "damage_per_year": dmg / dur * SECONDS_PER_YEAR, **env.data_vars})
+        path = write_netcdf(out, Path(args.out))
+        print(f"  wrote {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="moorline", description="Lumped-mass mooring and cable dynamics "
                                  "(MoorDyn v2 decks).")
@@ -185,6 +270,35 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("check", help="read a deck and report its size and time-step stability")
     common(p)
     p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("sweep", help="run a parametric study (YAML study file); resumes an interrupted sweep")
+    p.add_argument("study", help="study file (YAML)")
+    p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
+    p.add_argument("--out", help="output folder (default: the study's 'output' or <name>_out beside it)")
+    p.add_argument("--workers", type=int, help="local worker processes (default: number of CPUs)")
+    p.add_argument("--scheduler", help="Dask scheduler address: run the cases on that cluster")
+    p.add_argument("--no-resume", action="store_true", help="recompute cases already stored")
+    p.add_argument("--quiet-progress", action="store_true", help="no progress bar (default: shown on a terminal)")
+    p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("fatigue", help="cross-section stress, rainflow and S-N damage of one run's results")
+    p.add_argument("results", help="NetCDF results of 'moorline run' (with node data)")
+    p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
+    p.add_argument("--deck", help="the deck (default: the one named in the results) for EI and clamps")
+    p.add_argument("--line", type=int, help="line number (default: the only line)")
+    p.add_argument("--EI", type=float, help="bending stiffness [N m^2] (default: the deck's)")
+    p.add_argument("--do", type=float, required=True, help="outer diameter of the stress section [m]")
+    p.add_argument("--di", type=float, default=0.0, help="inner diameter [m] (default 0)")
+    p.add_argument("--n-theta", type=int, default=12, help="points around the section (default 12)")
+    p.add_argument("--alpha", type=float, required=True, help="S-N intercept: N = alpha S^-m")
+    p.add_argument("--m", type=float, required=True, help="S-N inverse slope")
+    p.add_argument("--unit", type=float, default=1e6, help="S-N stress unit in Pa (default 1e6: MPa)")
+    p.add_argument("--endurance", type=float, help="endurance limit [S-N units]")
+    p.add_argument("--tensile-only", action="store_true", help="set compressive stresses to zero before counting")
+    p.add_argument("--start", type=float, help="skip the record before this time [s] (transient)")
+    p.add_argument("--allowable-bend-radius", type=float, help="minimum allowable bend radius [m]")
+    p.add_argument("--out", help="write damage and envelopes to this NetCDF file")
+    p.set_defaults(func=cmd_fatigue)
     return ap
 
 
@@ -199,6 +313,7 @@ def main(argv=None) -> int:
     except SimulationError as e:
         print(f"moorline: simulation failed: {e}\nNo result files were written.", file=sys.stderr)
         return 3
+
 
 
 if __name__ == "__main__":

@@ -1,0 +1,205 @@
+"""Matplotlib figures for cable design studies.
+
+One run (:func:`moorline.simulate` results): :func:`curvature_envelope`. A sweep
+(:func:`moorline.batch.run_sweep` dataset): :func:`envelopes_along_arc` (curvature, stress, ...
+envelopes per case), :func:`damage_along_arc`, :func:`scatter_heatmap` (the fatigue Hs-Tz matrix)
+and :func:`sensitivity` (how a result depends on each parameter). Every function draws into the
+axes it is given (or a new figure) and returns the axes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+__all__ = ["cases", "curvature_envelope", "damage_along_arc", "envelopes_along_arc", "scatter_heatmap",
+           "sensitivity"]
+
+
+def _axes(ax, figsize=(7.0, 4.2)):
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(figsize=figsize)[1]
+
+
+def _parameters(ds: xr.Dataset) -> list[str]:
+    """The sweep parameters: the dimensions that are not the result dimensions."""
+    inner = {"sea_state", "node", "theta", "segment", "time", "xyz"}
+    return [d for d in ds.dims if d not in inner]
+
+
+def cases(ds: xr.Dataset):
+    """Iterate (label, dict of parameter values, case Dataset) over the cases of a sweep dataset."""
+    params = _parameters(ds)
+    if not params:
+        yield "", {}, ds
+        return
+    shape = [ds.sizes[p] for p in params]
+    for idx in np.ndindex(*shape):
+        sel = dict(zip(params, idx, strict=True))
+        one = ds.isel(sel)
+        values = {p: one[p].item() for p in params}
+        yield ", ".join(f"{p}={v:g}" if isinstance(v, float) else f"{p}={v}" for p, v in values.items()), values, one
+
+
+def curvature_envelope(ds: xr.Dataset, line: int | None = None, *, ax=None, allowable_bend_radius=None):
+    """Curvature along the arc length of one run: min-max band, mean, and the largest value with
+    its bend radius; an allowable bend radius as the curvature limit 1/R."""
+    from .post import line_nodes
+
+    _, sub = line_nodes(ds, line)
+    ax = _axes(ax)
+    s = sub.node_s.values
+    k = sub.node_curvature.values
+    kmax = k.max(axis=0)
+    i = int(np.argmax(kmax))
+    ax.fill_between(s, k.min(axis=0), kmax, color="tab:orange", alpha=0.35, label="min-max envelope")
+    ax.plot(s, k.mean(axis=0), color="tab:orange", lw=1.5, label="mean")
+    ax.plot(s[i], kmax[i], "kv", label=f"max {kmax[i]:.3g} 1/m (R = {1 / kmax[i]:.3g} m)" if kmax[i] > 0 else "max 0")
+    if allowable_bend_radius:
+        ax.axhline(1.0 / allowable_bend_radius, color="tab:red", ls="--", lw=1,
+                   label=f"allowable bend radius {allowable_bend_radius:g} m")
+    ax.set_xlabel("arc length from end A [m]")
+    ax.set_ylabel("curvature [1/m]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def envelopes_along_arc(ds: xr.Dataset, var: str = "curvature_max", *, ax=None, reduce: str = "max", scale=1.0,
+                        ylabel: str | None = None, highlight: dict | None = None, legend: bool = True):
+    """One line per sweep case: ``var`` (with a node dimension, e.g. curvature_max, stress_max,
+    tension_max) reduced over sea states (``reduce`` = 'max' or 'min') against arc length.
+
+    Parameters
+    ----------
+    scale : float
+        Multiply the values (e.g. 1e-6 for stress in MPa).
+    highlight : dict, optional
+        Parameter values of a case drawn thick and black (e.g. the baseline).
+    """
+    ax = _axes(ax)
+    items = list(cases(ds))
+    colors = _colors(len(items))
+    for (label, values, one), c in zip(items, colors, strict=True):
+        v = one[var]
+        if "sea_state" in v.dims:
+            v = getattr(v, reduce)("sea_state")
+        for d in [d for d in v.dims if d != "node"]:
+            v = getattr(v, reduce)(d)
+        s = one.node_s.values
+        hl = highlight is not None and all(values.get(k) == val for k, val in highlight.items())
+        ax.plot(s, v.values * scale, color="k" if hl else c, lw=2.2 if hl else 1.0, label=label, zorder=3 if hl else 2)
+    ax.set_xlabel("arc length from end A [m]")
+    ax.set_ylabel(ylabel or var)
+    ax.grid(alpha=0.3)
+    if legend:
+        ax.legend(fontsize=6, ncol=2)
+    return ax
+
+
+def damage_along_arc(ds: xr.Dataset, *, ax=None, var: str = "damage_per_year", highlight: dict | None = None,
+                     legend: bool = True):
+    """Annual damage along the arc length (the largest over the section points) per case, log scale."""
+    ax = _axes(ax)
+    items = list(cases(ds))
+    for (label, values, one), c in zip(items, _colors(len(items)), strict=True):
+        d = one[var]
+        if "theta" in d.dims:
+            d = d.max("theta")
+        hl = highlight is not None and all(values.get(k) == val for k, val in highlight.items())
+        ax.semilogy(one.node_s.values, np.where(d.values > 0, d.values, np.nan), color="k" if hl else c,
+                    lw=2.2 if hl else 1.0, label=label, zorder=3 if hl else 2)
+    ax.set_xlabel("arc length from end A [m]")
+    ax.set_ylabel("damage per year [1/year]")
+    ax.grid(alpha=0.3, which="both")
+    if legend:
+        ax.legend(fontsize=6, ncol=2)
+    return ax
+
+
+def scatter_heatmap(values: xr.DataArray, *, ax=None, log: bool = True, cmap: str = "magma_r",
+                    label: str = "damage per year", annotate: bool = True, grid: xr.DataArray | None = None):
+    """A heat map over the scatter diagram (Hs rows, Tz columns): per-sea-state values with ``Hs``
+    and ``Tz`` coordinates along ``sea_state`` (e.g. ``damage_per_year_by_sea_state`` of one case),
+    or a DataArray already on the (Hs, Tz) grid. Empty cells are blank; cells holding at least 1 %
+    of the total are labelled with their share.
+
+    Parameters
+    ----------
+    grid : xarray.DataArray, optional
+        Something on the full (Hs, Tz) grid (e.g. ``ScatterDiagram.to_dataarray()``) whose
+        coordinates the map spans.
+    """
+    import matplotlib.colors as mcolors
+
+    from .post import to_scatter_grid
+
+    g = to_scatter_grid(values) if "sea_state" in values.dims else values
+    if grid is not None:
+        g = g.reindex(Hs=grid.Hs.values, Tz=grid.Tz.values).sortby(["Hs", "Tz"])
+    ax = _axes(ax, figsize=(8.0, 5.5))
+    v = g.values.astype(float)
+    pos = v[np.isfinite(v) & (v > 0)]
+    norm = mcolors.LogNorm(vmin=pos.min(), vmax=pos.max()) if log and pos.size else None
+    Tz, Hs = g.Tz.values, g.Hs.values
+    m = ax.pcolormesh(_edges(Tz), _edges(Hs), np.where(v > 0, v, np.nan) if log else v, cmap=cmap, norm=norm,
+                      shading="flat")
+    ax.figure.colorbar(m, ax=ax, label=label)
+    if annotate and pos.size:
+        total = np.nansum(v)
+        for i, j in zip(*np.nonzero(np.isfinite(v) & (v > 0)), strict=True):
+            share = v[i, j] / total
+            if share >= 0.01:
+                ax.text(Tz[j], Hs[i], f"{100 * share:.0f}%", ha="center", va="center", fontsize=6,
+                        color="w" if norm is not None and norm(v[i, j]) > 0.6 else "k")
+    ax.set_xlabel("zero-crossing period Tz [s]")
+    ax.set_ylabel("significant wave height Hs [m]")
+    return ax
+
+
+def sensitivity(ds: xr.Dataset, metric: str = "life_years", *, axes=None, log: bool = True, label: str | None = None):
+    """How ``metric`` (a per-case result, e.g. life_years) depends on each parameter: one panel per
+    parameter, a thin line through the cases that differ only in that parameter, and the
+    geometric (log) or arithmetic mean over the other parameters, thick."""
+    import matplotlib.pyplot as plt
+
+    params = _parameters(ds)
+    if axes is None:
+        _, axes = plt.subplots(1, len(params), figsize=(3.6 * len(params), 3.6), sharey=True, squeeze=False)
+        axes = axes[0]
+    da = ds[metric]
+    for ax, p in zip(axes, params, strict=True):
+        x = ds[p].values
+        others = [q for q in params if q != p]
+        lines = da.transpose(p, *others).values.reshape(len(x), -1)
+        for j in range(lines.shape[1]):
+            ax.plot(x, lines[:, j], color="0.6", lw=0.8, marker=".", ms=4)
+        with np.errstate(divide="ignore"):
+            mean = np.exp(np.nanmean(np.log(lines), axis=1)) if log else np.nanmean(lines, axis=1)
+        ax.plot(x, mean, color="tab:blue", lw=2.2, marker="o", label="mean over the others")
+        if log:
+            ax.set_yscale("log")
+        ax.set_xlabel(f"{p}" + (f" [{ds[p].attrs['units']}]" if "units" in ds[p].attrs else ""))
+        ax.grid(alpha=0.3, which="both")
+    axes[0].set_ylabel(label or metric)
+    axes[0].legend(fontsize=8)
+    return axes
+
+
+def _edges(c: np.ndarray) -> np.ndarray:
+    """Cell edges around bin centres."""
+    c = np.asarray(c, dtype=float)
+    if c.size == 1:
+        return np.array([c[0] - 0.5, c[0] + 0.5])
+    mid = 0.5 * (c[1:] + c[:-1])
+    return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
+
+
+def _colors(n: int):
+    import matplotlib.pyplot as plt
+
+    cmap = plt.get_cmap("viridis")
+    return [cmap(i / max(n - 1, 1)) for i in range(n)]
