@@ -1,6 +1,7 @@
 """The ``moorline`` command.
 
     moorline run DECK [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
+                 [--waves jonswap:Hs=3.5,Tp=7.5,heading=180,seed=1] [--current 1.0@180]
     moorline statics DECK [--out DIR]
     moorline check DECK
     moorline sweep STUDY.yaml [--workers N] [--scheduler ADDRESS] [--out DIR] [--no-resume]
@@ -54,12 +55,72 @@ def _load(args):
     from .io import read_deck
 
     model = read_deck(Path(args.deck))
+    try:
+        if getattr(args, "waves", None):
+            model.env.waves = parse_waves(args.waves)
+        if getattr(args, "current", None):
+            model.env.current = parse_current(args.current)
+    except ValueError as e:  # a bad --waves / --current value: bad input, exit code 2
+        raise DeckError(str(e)) from None
     kwargs = {}
     if getattr(args, "dtM", None):
         kwargs["dtM"] = args.dtM
     if getattr(args, "scheme", None):
         kwargs["scheme"] = args.scheme
     return System(model, **kwargs)
+
+
+_WAVE_KINDS = ("regular", "jonswap", "pm")
+
+
+def parse_waves(text: str):
+    """A sea from the command line: ``jonswap:Hs=3.5,Tp=7.5[,gamma=3.3][,heading=180][,seed=1]
+    [,n=200][,ramp=20]``, ``pm:Hs=..,Tp=..`` (Pierson-Moskowitz) or ``regular:H=2,T=8[,heading=..]``.
+    Headings in degrees, direction of travel from +x toward +y."""
+    from .model.water import Waves
+
+    kind, _, rest = text.partition(":")
+    kind = kind.strip().lower()
+    if kind not in _WAVE_KINDS:
+        raise ValueError(f"--waves {text!r}: expected one of {', '.join(_WAVE_KINDS)} before ':', e.g. "
+                         "jonswap:Hs=3.5,Tp=7.5,heading=180")
+    kv = {}
+    for item in filter(None, (x.strip() for x in rest.split(","))):
+        key, eq, val = item.partition("=")
+        try:
+            kv[key.strip().lower()] = float(val)
+        except ValueError:
+            raise ValueError(f"--waves {text!r}: expected key=number, got {item!r}") from None
+        if not eq:
+            raise ValueError(f"--waves {text!r}: expected key=number, got {item!r}")
+    opts = {}
+    if "ramp" in kv:
+        opts["ramp_time"] = kv.pop("ramp")
+    heading = kv.pop("heading", 0.0)
+    try:
+        if kind == "regular":
+            return Waves.regular(kv.pop("h"), kv.pop("t"), heading=heading, phase=kv.pop("phase", 0.0), **opts)
+        Hs, Tp = kv.pop("hs"), kv.pop("tp")
+        gamma = kv.pop("gamma", 3.3 if kind == "jonswap" else 1.0)
+        seed = int(kv.pop("seed")) if "seed" in kv else None
+        n = int(kv.pop("n")) if "n" in kv else None
+        return Waves.jonswap(Hs, Tp, gamma, heading=heading, seed=seed, n_components=n, **opts)
+    except KeyError as e:
+        raise ValueError(f"--waves {text!r}: missing {e.args[0]}") from None
+    finally:
+        if kv:
+            log.warning("--waves: ignored %s", ", ".join(sorted(kv)))
+
+
+def parse_current(text: str):
+    """A uniform current from the command line: ``SPEED@HEADING`` [m/s, deg toward], e.g. ``1.0@180``."""
+    from .model.water import Current
+
+    speed, _, heading = text.partition("@")
+    try:
+        return Current.uniform(float(speed), heading=float(heading or 0.0))
+    except ValueError:
+        raise ValueError(f"--current {text!r}: expected SPEED@HEADING, e.g. 1.0@180 (m/s toward 180 deg)") from None
 
 
 def _out_dir(args) -> Path:
@@ -257,6 +318,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "driver stepping from sample to sample)")
     p.add_argument("--out", help="output folder (default: the deck's folder)")
     p.add_argument("--dt-out", type=float, default=None, help="output interval [s] (default: dtOut or 0.1)")
+    p.add_argument("--waves", help="a sea instead of the deck's WaveKin: jonswap:Hs=3.5,Tp=7.5[,gamma=3.3]"
+                   "[,heading=180][,seed=1][,n=200][,ramp=20], pm:Hs=..,Tp=.. or regular:H=2,T=8[,heading=..]")
+    p.add_argument("--current", help="a uniform current instead of the deck's Currents: SPEED@HEADING, e.g. 1.0@180")
     p.add_argument("--no-ic", action="store_true", help="start from the catenary profile (no IC solve)")
     p.add_argument("--no-nodes", action="store_true", help="keep node data out of the NetCDF file")
     p.add_argument("--quiet-progress", action="store_true", help="no progress bar (default: shown on a terminal)")

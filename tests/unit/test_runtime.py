@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -216,3 +217,32 @@ def test_simulate_with_bathymetry_records_the_grid_in_the_attributes():
     env = json.loads(ds.attrs["environment"])
     assert env["bathymetry"] == {"source": "flat", "nx": 2, "ny": 2, "x_range": [-50.0, 400.0],
                                  "y_range": [-50.0, 50.0], "z_range": [-100.0, -100.0]}
+
+
+def test_cli_run_with_a_native_sea_state(tmp_path, capsys):
+    """``--waves jonswap:...`` and ``--current SPEED@HEADING`` put a sea on the deck's lines: the
+    run records them in the results and the fairlead tension differs from still water."""
+
+    runs = {}
+    for tag, extra in (("still", []), ("sea", ["--waves", "jonswap:Hs=3,Tp=9,heading=180,seed=2,n=40",
+                                              "--current", "1.0@180"])):
+        out = tmp_path / tag
+        code = cli_main(["run", str(EXAMPLE), "--duration", "2", "--out", str(out), "--quiet-progress", *extra])
+        assert code == 0
+        runs[tag] = xr.open_dataset(out / "catenary_3line.nc", engine="h5netcdf")
+    env = json.loads(runs["sea"].attrs["environment"])
+    assert "JONSWAP" in env["waves"] and "1 m/s toward 180 deg" in env["current"]
+    diff = np.abs(runs["sea"].line_tension_b.values - runs["still"].line_tension_b.values).max()
+    assert diff > 100.0  # N: a 1 m/s current on 3 x 850 m of chain moves the fairlead tension
+
+
+@pytest.mark.parametrize("arg, value, words", [
+    ("--waves", "storm:Hs=3", ["regular, jonswap, pm"]),
+    ("--waves", "jonswap:Hs=3", ["missing tp"]),
+    ("--waves", "jonswap:Hs=three,Tp=9", ["key=number"]),
+    ("--current", "fast@north", ["SPEED@HEADING"]),
+])
+def test_cli_bad_sea_state_exit_2(arg, value, words, capsys):
+    assert cli_main(["run", str(EXAMPLE), "--duration", "1", arg, value, "--quiet-progress"]) == 2
+    err = capsys.readouterr().err
+    assert all(w in err for w in words)
