@@ -956,19 +956,24 @@ def _run_local(pending, n, finished, failed, bar) -> None:
     pool = cf.ProcessPoolExecutor(max_workers=min(n, len(pending)), mp_context=ctx)
     try:
         futs = {pool.submit(run_case, s): s for s in pending}
-        for f in cf.as_completed(futs):
-            s = futs[f]
-            try:
-                ds = f.result()
-            except Exception as e:  # reported per case; the others go on
-                failed(s, e)
-            else:
-                finished(s, ds)
-            bar.update(1)
+        _gather(futs, cf.as_completed(futs), finished, failed, bar)
     except BaseException:  # interrupted: drop the queued cases, do not wait for the running ones
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown()
+
+
+def _gather(futs, done, finished, failed, bar) -> None:
+    """Hand every finished future (local or Dask) to ``finished`` or ``failed`` as it completes."""
+    for f in done:
+        s = futs[f]
+        try:
+            ds = f.result()
+        except Exception as e:  # reported per case; the others go on
+            failed(s, e)
+        else:
+            finished(s, ds)
+        bar.update(1)
 
 
 def _run_dask(pending, scheduler, finished, failed, bar) -> None:
@@ -981,15 +986,7 @@ def _run_dask(pending, scheduler, finished, failed, bar) -> None:
     client = Client(scheduler) if own else scheduler
     try:
         futs = {client.submit(run_case, s, pure=False): s for s in pending}
-        for f in as_completed(list(futs)):
-            s = futs[f]
-            try:
-                ds = f.result()
-            except Exception as e:  # reported per case; the others go on
-                failed(s, e)
-            else:
-                finished(s, ds)
-            bar.update(1)
+        _gather(futs, as_completed(list(futs)), finished, failed, bar)
     finally:
         if own:
             client.close()
