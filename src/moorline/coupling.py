@@ -7,9 +7,9 @@ It mirrors MoorDyn's coupling API so that coupling scripts port by renaming::
     f = sys.step(x, xd, t, dt)                           # MoorDyn_Step
     sys.lines[0].fairlead_tension()                      # MoorDyn_GetLineFairTen
 
-``x`` and ``xd`` are the coupled degrees of freedom in MoorDyn's order: coupled points, 3 each,
-in point order (bodies and rods come with the cable work). Forces returned are the loads the
-mooring system exerts on the coupled objects [N].
+``x`` and ``xd`` are the coupled degrees of freedom in MoorDyn's order: coupled bodies and rods
+(6 each, x y z roll pitch yaw; 3 when pinned), then coupled points (3 each). Forces returned are the
+loads the mooring system exerts on the coupled objects [N, N m].
 """
 
 from __future__ import annotations
@@ -172,8 +172,11 @@ class LineView:
         return w.F[self._n.start if end.upper() == "A" else self._n.stop - 1].copy()
 
 
-class PointView:
-    """Read access to one point of a running :class:`System`."""
+class _ObjectView:
+    """Read access to object ``index`` of a running :class:`System`; ``_objects`` names the
+    model's list of such objects."""
+
+    _objects = ""
 
     def __init__(self, system: System, index: int):
         self._s = system
@@ -181,11 +184,18 @@ class PointView:
 
     @property
     def number(self) -> int:
+        """1-based number, as in the deck."""
         return self.index + 1
 
     @property
     def kind(self):
-        return self._s.model.points[self.index].kind
+        return getattr(self._s.model, self._objects)[self.index].kind
+
+
+class PointView(_ObjectView):
+    """Read access to one point of a running :class:`System`."""
+
+    _objects = "points"
 
     def position(self) -> np.ndarray:
         return self._s.work.pr[self.index].copy()
@@ -216,22 +226,15 @@ def _quat_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return q / np.linalg.norm(q)
 
 
-class RodView:
+class RodView(_ObjectView):
     """Read access to one rod of a running :class:`System` (values of the last evaluation)."""
 
+    _objects = "rods"
+
     def __init__(self, system: System, index: int):
-        self._s = system
-        self.index = index
+        super().__init__(system, index)
         ptr = system.layout.rigid.rod_node_ptr
         self._n = slice(int(ptr[index]), int(ptr[index + 1]))
-
-    @property
-    def number(self) -> int:
-        return self.index + 1
-
-    @property
-    def kind(self):
-        return self._s.model.rods[self.index].kind
 
     def node_positions(self) -> np.ndarray:
         """Node positions [m], shape (N+1, 3) (one node for a zero-length rod)."""
@@ -301,20 +304,10 @@ class RodView:
         return np.linalg.norm(self._s.work.rodF[self.index], axis=1)
 
 
-class BodyView:
+class BodyView(_ObjectView):
     """Read access to one body of a running :class:`System`."""
 
-    def __init__(self, system: System, index: int):
-        self._s = system
-        self.index = index
-
-    @property
-    def number(self) -> int:
-        return self.index + 1
-
-    @property
-    def kind(self):
-        return self._s.model.bodies[self.index].kind
+    _objects = "bodies"
 
     def position(self) -> np.ndarray:
         """Reference-point position [m]."""

@@ -195,6 +195,29 @@ def _cross(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _matvec(Rm, x, y, z):
+    """Rm (x, y, z) for a 3x3 matrix Rm."""
+    return (Rm[0, 0] * x + Rm[0, 1] * y + Rm[0, 2] * z, Rm[1, 0] * x + Rm[1, 1] * y + Rm[1, 2] * z,
+            Rm[2, 0] * x + Rm[2, 1] * y + Rm[2, 2] * z)
+
+
+@njit(cache=True, error_model="numpy")
+def _pinned_rotation(M6, F6, acc, M3, rhs3, x3):
+    """Angular acceleration of an object whose reference point moves with the imposed
+    acceleration ``acc[:3]``: alpha = M_rr^-1 (F_rot - M_rt a), written into ``acc[3:]``.
+    M3, rhs3, x3 are scratch."""
+    for a in range(3):
+        s = F6[3 + a]
+        for c in range(3):
+            s -= M6[3 + a, c] * acc[c]
+            M3[a, c] = M6[3 + a, 3 + c]
+        rhs3[a] = s
+    solve_dense(M3, rhs3, x3, 3)
+    for a in range(3):
+        acc[3 + a] = x3[a]
+
+
 # ---------------------------------------------------------------------------------- kinematics
 
 
@@ -245,10 +268,7 @@ def body_kinematics(y, R, W):
 @njit(cache=True, error_model="numpy")
 def _on_body(b, rel_x, rel_y, rel_z, bR, br, bv, bw):
     """Global position and velocity of a point given in body ``b``'s axes."""
-    Rm = bR[b]
-    gx = Rm[0, 0] * rel_x + Rm[0, 1] * rel_y + Rm[0, 2] * rel_z
-    gy = Rm[1, 0] * rel_x + Rm[1, 1] * rel_y + Rm[1, 2] * rel_z
-    gz = Rm[2, 0] * rel_x + Rm[2, 1] * rel_y + Rm[2, 2] * rel_z
+    gx, gy, gz = _matvec(bR[b], rel_x, rel_y, rel_z)
     cx, cy, cz = _cross(bw[b, 0], bw[b, 1], bw[b, 2], gx, gy, gz)
     return br[b, 0] + gx, br[b, 1] + gy, br[b, 2] + gz, bv[b, 0] + cx, bv[b, 1] + cy, bv[b, 2] + cz
 
@@ -300,25 +320,15 @@ def rod_kinematics(y, R, W):
             oq = 3 * n3 + 7 * j
             ou = uoff + 3 * n3 + 6 * j
             quat_to_R(y, oq + 3, Rm)
-            rx, ry, rz = R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2]
-            ax = Rm[0, 0] * rx + Rm[0, 1] * ry + Rm[0, 2] * rz
-            ay = Rm[1, 0] * rx + Rm[1, 1] * ry + Rm[1, 2] * rz
-            az = Rm[2, 0] * rx + Rm[2, 1] * ry + Rm[2, 2] * rz
+            ax, ay, az = _matvec(Rm, R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2])
             wx, wy, wz = y[ou + 3], y[ou + 4], y[ou + 5]
         elif kind == ROD_BODY or kind == ROD_BODY_PINNED:
-            B = W.bR[b]
-            rx, ry, rz = ax, ay, az
-            ax = B[0, 0] * rx + B[0, 1] * ry + B[0, 2] * rz
-            ay = B[1, 0] * rx + B[1, 1] * ry + B[1, 2] * rz
-            az = B[2, 0] * rx + B[2, 1] * ry + B[2, 2] * rz
+            ax, ay, az = _matvec(W.bR[b], ax, ay, az)
             wx, wy, wz = W.bw[b, 0], W.bw[b, 1], W.bw[b, 2]
         elif kind == ROD_COUPLED:
             o = R.rod_cpl[k]
             euler_R(xc[o + 3], xc[o + 4], xc[o + 5], Rm)
-            rx, ry, rz = R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2]
-            ax = Rm[0, 0] * rx + Rm[0, 1] * ry + Rm[0, 2] * rz
-            ay = Rm[1, 0] * rx + Rm[1, 1] * ry + Rm[1, 2] * rz
-            az = Rm[2, 0] * rx + Rm[2, 1] * ry + Rm[2, 2] * rz
+            ax, ay, az = _matvec(Rm, R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2])
             wx, wy, wz = vc[o + 3], vc[o + 4], vc[o + 5]
         W.rodr[k, 0, 0] = px
         W.rodr[k, 0, 1] = py
@@ -852,15 +862,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
                 o = R.rod_cpl[k]
                 for a in range(3):
                     acc[a] = W.ac[o + a]
-            for a in range(3):
-                s = Fe[3 + a]
-                for c in range(3):
-                    s -= M6[3 + a, c] * acc[c]
-                    M3[a, c] = M6[3 + a, 3 + c]
-                rhs3[a] = s
-            solve_dense(M3, rhs3, x3, 3)
-            for a in range(3):
-                acc[3 + a] = x3[a]
+            _pinned_rotation(M6, Fe, acc, M3, rhs3, x3)
         if kind == ROD_BODY or kind == ROD_BODY_PINNED:
             b = R.rod_body[k]
             n0 = R.rod_node_ptr[k]
@@ -920,9 +922,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
                                 s += Rm[a, e] * M0[3 * bi + e, 3 * bj + f] * Rm[c, f]
                         M6[3 * bi + a, 3 * bj + c] += s
         m = R.body_m[i]
-        cgx = Rm[0, 0] * R.body_rCG[i, 0] + Rm[0, 1] * R.body_rCG[i, 1] + Rm[0, 2] * R.body_rCG[i, 2]
-        cgy = Rm[1, 0] * R.body_rCG[i, 0] + Rm[1, 1] * R.body_rCG[i, 1] + Rm[1, 2] * R.body_rCG[i, 2]
-        cgz = Rm[2, 0] * R.body_rCG[i, 0] + Rm[2, 1] * R.body_rCG[i, 1] + Rm[2, 2] * R.body_rCG[i, 2]
+        cgx, cgy, cgz = _matvec(Rm, R.body_rCG[i, 0], R.body_rCG[i, 1], R.body_rCG[i, 2])
         fg = E.g * (E.rho * R.body_V[i] - m)
         wx = W.bw[i, 0]
         wy = W.bw[i, 1]
@@ -966,15 +966,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
             o = R.body_cpl[i]
             for a in range(3):
                 acc[a] = W.ac[o + a]
-            for a in range(3):
-                s = F6[3 + a]
-                for c in range(3):
-                    s -= M6[3 + a, c] * acc[c]
-                    M3[a, c] = M6[3 + a, 3 + c]
-                rhs3[a] = s
-            solve_dense(M3, rhs3, x3, 3)
-            for a in range(3):
-                acc[3 + a] = x3[a]
+            _pinned_rotation(M6, F6, acc, M3, rhs3, x3)
         elif kind == BODY_COUPLED:
             o = R.body_cpl[i]
             for a in range(6):

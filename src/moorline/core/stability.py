@@ -86,8 +86,7 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
         touches = bool(on_seabed[li]) if on_seabed is not None else None
         if touches is None:
             ends = [model.end_position(ln.end_a), model.end_position(ln.end_b)]
-            bathy = model.env.bathymetry
-            touches = any(r[2] <= (bathy.height(r[0], r[1]) if bathy is not None else -E.depth) * (1.0 - 1e-5)
+            touches = any(r[2] <= _seabed_height(model, E.depth, r) * (1.0 - 1e-5)
                           for r in ends)
         if touches:
             modes.append(Mode(name, "seabed contact damping", E.cBot * lt.d / lt.w))
@@ -102,19 +101,32 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
     for p, pt in enumerate(model.points):
         if P.kind[p] != P_FREE:
             continue
-        k = 0.0
-        m = pt.m + E.rho * pt.Ca * pt.V
-        for li, ln in enumerate(model.lines):
-            lt = model.line_types[ln.line_type]
-            l0 = layout.line_L[li] / layout.line_N[li]
-            for att in (ln.end_a, ln.end_b):
-                if att.kind == "point" and att.index == p:
-                    k += lt.EA_max / l0
-                    m += 0.5 * lt.w * l0
+        k, m_ends = _attached_ends(model, layout, "point", p)
+        m = pt.m + E.rho * pt.Ca * pt.V + m_ends
         if k > 0 and m > 0:
             modes.append(Mode(f"point {p + 1}", "point on its lines", math.sqrt(k / m)))
     modes += _rigid_modes(model, layout)
     return modes
+
+
+def _seabed_height(model: Model, depth: float, r) -> float:
+    """Seabed height [m] below the horizontal position of ``r``."""
+    bathy = model.env.bathymetry
+    return bathy.height(r[0], r[1]) if bathy is not None else -depth
+
+
+def _attached_ends(model: Model, layout: Layout, kind: str, index: int) -> tuple[float, float]:
+    """Axial stiffness EA_max / l [N/m] and half-segment mass [kg] of the line end segments
+    attached to the point or rod ``index`` (``kind`` 'point' or 'rod')."""
+    stiff = mass = 0.0
+    for li, ln in enumerate(model.lines):
+        lt = model.line_types[ln.line_type]
+        l0 = layout.line_L[li] / layout.line_N[li]
+        for att in (ln.end_a, ln.end_b):
+            if att.kind == kind and att.index == index:
+                stiff += lt.EA_max / l0
+                mass += 0.5 * lt.w * l0
+    return stiff, mass
 
 
 def _rigid_modes(model: Model, layout: Layout) -> list[Mode]:
@@ -128,20 +140,12 @@ def _rigid_modes(model: Model, layout: Layout) -> list[Mode]:
         if rod.kind != RodKind.FREE:
             continue
         rt = model.rod_types[rod.rod_type]
-        stiff = 0.0
-        m = rt.w * rod.length + E.rho * rt.Ca * 0.25 * math.pi * rt.d**2 * rod.length
-        for li, ln in enumerate(model.lines):
-            lt = model.line_types[ln.line_type]
-            l0 = layout.line_L[li] / layout.line_N[li]
-            for att in (ln.end_a, ln.end_b):
-                if att.kind == "rod" and att.index == k:
-                    stiff += lt.EA_max / l0
-                    m += 0.5 * lt.w * l0
+        stiff, m_ends = _attached_ends(model, layout, "rod", k)
+        m = rt.w * rod.length + E.rho * rt.Ca * 0.25 * math.pi * rt.d**2 * rod.length + m_ends
         if stiff > 0 and m > 0:
             modes.append(Mode(f"rod {k + 1}", "rod on its lines", math.sqrt(stiff / m)))
         rA, rB = model.rod_ends(k)
-        bathy = model.env.bathymetry
-        zb = max((bathy.height(r[0], r[1]) if bathy is not None else -E.depth) for r in (rA, rB))
+        zb = max(_seabed_height(model, E.depth, r) for r in (rA, rB))
         near_seabed = min(rA[2], rB[2]) - zb <= rod.length + rt.d  # within reach of the seabed
         if rod.N > 0 and rt.w > 0 and near_seabed:
             modes.append(Mode(f"rod {k + 1}", "rod seabed contact stiffness", math.sqrt(E.kBot * rt.d / rt.w)))
