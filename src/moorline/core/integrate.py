@@ -25,12 +25,14 @@ class Scheme(IntEnum):
     RK2 = 1
     RK4 = 2
     IMPLICIT = 3  # MoorDyn's BEuler<M> / Midpoint<M>: M relaxed fixed-point iterations
+    GENALPHA = 4  # generalized-alpha with Newton iterations (core.implicit): no stability limit
 
 
 #: largest stable omega*dt of the highest axial segment mode for damping ratio ~0.5-1
 #: (spec 5.4, linear analysis of a taut chain); used by the time-step report. The relaxed
 #: fixed-point iterations of the "implicit" schemes are explicit in effect: RK2's value is used.
-STABLE_OMEGA_DT = {Scheme.EULER: 1.0, Scheme.RK2: 2.0, Scheme.RK4: 2.6, Scheme.IMPLICIT: 2.0}
+STABLE_OMEGA_DT = {Scheme.EULER: 1.0, Scheme.RK2: 2.0, Scheme.RK4: 2.6, Scheme.IMPLICIT: 2.0,
+                   Scheme.GENALPHA: math.inf}
 
 _MOORDYN_NAMES = ("LEULER", "HEUN", "AB2", "AB3", "AB4", "LAB2", "LAB3", "LAB4")
 _MOORDYN_PREFIXES = ("ACA", "WILSON")
@@ -40,7 +42,9 @@ def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
     """Map a MoorDyn ``tScheme`` name to a :class:`Scheme`, its parameters and a label.
 
     Euler, RK2, RK4, and MoorDyn's ``BEuler<M>`` and ``Midpoint<M>`` (M fixed-point iterations,
-    evaluated at t + c dt with c = 1 or 1/2, relaxed as MoorDyn does) are implemented. Other MoorDyn
+    evaluated at t + c dt with c = 1 or 1/2, relaxed as MoorDyn does) are implemented, and
+    moorline's truly implicit ``GenAlpha[rho_inf]`` (generalized-alpha with Newton iterations,
+    :mod:`moorline.core.implicit`; ``params[0]`` = rho_inf, default 0.7). Other MoorDyn
     names, and unknown names, fall back to RK2 as MoorDyn does for unknown names, with a warning.
 
     Returns
@@ -58,6 +62,12 @@ def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
         return Scheme.RK2, params, "RK2"
     if key == "RK4":
         return Scheme.RK4, params, "RK4"
+    if key.startswith("GENALPHA"):
+        from .implicit import parse_rho
+
+        rho = parse_rho(key[len("GENALPHA"):])
+        params[0] = rho
+        return Scheme.GENALPHA, params, f"GenAlpha{rho:g}"
     for prefix, c, label in (("BEULER", 1.0, "BEuler"), ("MIDPOINT", 0.5, "Midpoint")):
         if key.startswith(prefix):
             rest = key[len(prefix):]
@@ -70,7 +80,7 @@ def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
     if key in _MOORDYN_NAMES or key.startswith(_MOORDYN_PREFIXES):
         log.warning("time scheme %r is a MoorDyn scheme that moorline does not implement yet; using RK2", name)
     else:
-        log.warning("unknown time scheme %r (expected Euler, RK2, RK4, BEuler<M> or Midpoint<M>); using RK2 "
+        log.warning("unknown time scheme %r (expected Euler, RK2, RK4, BEuler<M>, Midpoint<M> or GenAlpha); using RK2 "
                     "as MoorDyn does", name)
     return Scheme.RK2, params, "RK2"
 

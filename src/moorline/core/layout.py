@@ -151,6 +151,9 @@ class EnvArrays(NamedTuple):
     kshear: float  # stick-slip friction spring stiffness per contact area [Pa/m]
     cshear: float  # stick-slip friction spring damping per contact area [Pa s/m]
     water: object  # core.waterkin.WaterKin: waves and current
+    #: penetration [m] over which the seabed contact damping grows from zero to full (0: MoorDyn's
+    #: step at first contact; the implicit scheme needs a continuous contact force, see System)
+    bed_ramp: float = 0.0
 
 
 class Seabed(NamedTuple):

@@ -33,7 +33,7 @@ from .layout import (
     ROD_FIXED,
     ROD_FREE,
 )
-from .seabed import seabed_at
+from .seabed import _ramp, seabed_at
 
 # ---------------------------------------------------------------------------------- small algebra
 
@@ -622,7 +622,7 @@ def rod_loads(R, E, B, W, cd_scale):
             # seabed: vertical contact only (spec 3.14.2)
             zb = seabed_at(gx, gy, gz, E.depth, rn_r[n, 0], rn_r[n, 1])[0]
             if zi < zb and dL > 0.0:
-                F[7, 2] = ((zb - zi) * E.kBot - rn_v[n, 2] * E.cBot) * d * dL
+                F[7, 2] = ((zb - zi) * E.kBot - rn_v[n, 2] * E.cBot * _ramp(zb - zi, E.bed_ramp)) * d * dL
             # end effects: end A (s = +1) at node 0, end B (s = -1) at node N
             for e in range(2):
                 if (e == 0 and i != 0) or (e == 1 and i != N) or not zlo < zeta:

@@ -113,12 +113,22 @@ def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
     return f, dd, flag
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _ramp(pen, ramp):
+    """Factor on the contact damping: 1 (MoorDyn), or pen / ramp while the penetration is below
+    ``ramp`` [m] so the contact force starts from zero (continuous, as Newton's method needs)."""
+    if ramp > 0.0 and pen < ramp:
+        return max(pen, 0.0) / ramp
+    return 1.0
+
+
 @njit(cache=True, error_model="numpy")
 def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
     if E.contact == CONTACT_NORMAL:
         vn = vx * nx + vy * ny + vz * nz
-        fn = ((zb - rz) * nz * E.kBot - vn * E.cBot) * area
+        pen = (zb - rz) * nz
+        fn = (pen * E.kBot - vn * E.cBot * _ramp(pen, E.bed_ramp)) * area
         bx = fn * nx
         by = fn * ny
         bz = fn * nz
@@ -128,7 +138,7 @@ def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
         ny = 0.0
         nz = 1.0
         vn = vz
-        fn = ((zb - rz) * E.kBot - vz * E.cBot) * area
+        fn = ((zb - rz) * E.kBot - vz * E.cBot * _ramp(zb - rz, E.bed_ramp)) * area
         bx = 0.0
         by = 0.0
         bz = fn

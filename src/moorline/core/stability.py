@@ -20,7 +20,8 @@ from .layout import P_FREE, Layout
 
 #: largest stable omega*dt for an UNDAMPED oscillation: RK4 is stable to 2.83; RK2 amplifies it by
 #: about (omega dt)^4 / 8 per step (spec 5.4), kept below 1e-6 per step; Euler always amplifies it
-UNDAMPED_OMEGA_DT = {Scheme.EULER: 0.0, Scheme.RK2: (8e-6) ** 0.25, Scheme.RK4: 2.8, Scheme.IMPLICIT: 1.0}
+UNDAMPED_OMEGA_DT = {Scheme.EULER: 0.0, Scheme.RK2: (8e-6) ** 0.25, Scheme.RK4: 2.8, Scheme.IMPLICIT: 1.0,
+                     Scheme.GENALPHA: math.inf}
 
 
 @dataclass
@@ -162,7 +163,11 @@ def stability_report(model: Model, layout: Layout, dtM: float, scheme: Scheme,
     ratio = gov.rate * dtM
     bound = STABLE_OMEGA_DT[scheme] if gov.damped else UNDAMPED_OMEGA_DT[scheme]
     name = label or scheme.name
-    if limit > 0:
+    if math.isinf(limit):
+        text = (f"dtM = {dtM:.4g} s ({name}, unconditionally stable); fastest mode: {gov.where}, {gov.kind}, "
+                f"rate {gov.rate:.4g} 1/s, rate*dtM = {ratio:.3g}: modes faster than about 1/dtM are damped "
+                f"numerically, not resolved")
+    elif limit > 0:
         text = (f"dtM = {dtM:.4g} s ({name}); governing mode: {gov.where}, {gov.kind}, "
                 f"rate {gov.rate:.4g} 1/s, rate*dtM = {ratio:.3g} (stable up to about {bound:.3g}, i.e. "
                 f"dtM <= {limit:.3g} s)")

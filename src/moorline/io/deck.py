@@ -120,6 +120,13 @@ def _flag01(tok, rd=None):
     return v
 
 
+def _auto01(tok, rd=None):
+    v = parse_whole(tok)
+    if v not in (-1, 0, 1):
+        raise _Bad("-1 (automatic), 0 or 1")
+    return v
+
+
 def _nsegs(tok, rd=None):
     v = parse_whole(tok)
     if v is None or v < 1:
@@ -383,6 +390,7 @@ OPTION_TABLE = (
     ("CdScaleIC", ("ICDfac",), "options", "CdScaleIC", _pos),
     ("threshIC", ("ICthresh",), "options", "threshIC", _pos),
     ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
+    ("ICNewton", (), "options", "ICNewton", _auto01),
     ("dtOut", (), "options", "dtOut", _nonneg),
     ("WriteUnits", (), "options", "WriteUnits", _flag01),
     ("disableOutput", (), "options", "disableOutput", _flag01),

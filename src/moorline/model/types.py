@@ -568,6 +568,9 @@ class Options:
     CdScaleIC: float = 5.0
     threshIC: float = 0.001
     ICgenDynamic: int = 0
+    #: static equilibrium by Newton's method for the initial conditions (moorline): 1 yes, 0 MoorDyn's
+    #: method (ICgenDynamic), -1 automatic (Newton with the implicit GenAlpha scheme)
+    ICNewton: int = -1
     dtOut: float = 0.0
     WriteUnits: int = 1
     disableOutput: int = 0

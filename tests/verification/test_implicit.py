@@ -1,0 +1,295 @@
+"""Verification of the implicit generalized-alpha scheme and the Newton static solve (issue 6).
+
+1. the banded LU with partial pivoting solves like a dense solver;
+2. the dependency pattern the coloured Jacobian relies on contains every nonzero of the true
+   Jacobian (dense finite differences of the derivative) on systems with bending stiffness,
+   zero-length rods, free points and seabed contact, and on MoorDyn's body-and-rod deck;
+3. Newton statics reaches the same equilibrium as MoorDyn's stationary solver, with a residual
+   acceleration below its tolerance;
+4. GenAlpha agrees with RK4 at small steps on a chain catenary in surge (with seabed contact), a
+   chain dragged over a seabed with Coulomb friction, and a cable with bending stiffness clamped to
+   a rod (1 % RMS of the fairlead tension, relative to its mean);
+5. it stays stable and accurate at dt = 0.05 s and 0.1 s on the chain (no stability limit);
+6. its observed order of accuracy is 2 (theory: second order for any rho_inf).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from moorline.core.implicit import band_lu, band_solve, dependency_graph, gen_alpha_parameters
+from moorline.core.rhs import rhs
+from moorline.coupling import System
+from moorline.model import Environment, Model, Options
+from moorline.motion import Trajectory
+
+SHARED = Path(os.environ.get("MOORLINE_SHARED", Path(__file__).resolve().parents[3] / "shared"))
+
+
+def smooth_sine(x0, amp, period, ramp, direction):
+    d = np.tile(np.asarray(direction, dtype=float), len(x0) // 3)
+
+    def X(t):
+        u = min(t / ramp, 1.0)
+        return x0 + d * amp * u**3 * (6 * u * u - 15 * u + 10) * math.sin(2 * math.pi * t / period)
+
+    return X
+
+
+def fairlead_tension(model_fn, scheme, dtM, X_of, T, dt_out, **kw):
+    """Fairlead tension history [N] sampled every dt_out, and the system."""
+    s = System(model_fn(), scheme=scheme, dtM=dtM, **kw)
+    x0 = s.deck_coupled_positions()
+    X = X_of(x0)
+    s.init(X(0.0), np.zeros_like(x0))
+    m = Trajectory.from_function(X, T, min(dt_out, 0.1), "cubic").as_motion()
+    out = []
+    for k in range(1, int(round(T / dt_out)) + 1):
+        s.advance_to(k * dt_out, m)
+        out.append(np.linalg.norm(s.coupled_forces()[:3]))
+    return np.array(out), s
+
+
+def rms_rel(a, ref):
+    return float(np.sqrt(np.mean((a - ref) ** 2)) / np.mean(ref))
+
+
+# ------------------------------------------------------------------------------------------------
+# 1. banded LU
+
+
+@pytest.mark.parametrize("kl,ku", [(1, 1), (5, 5), (8, 3), (0, 2)])
+def test_band_lu_matches_dense_solve(kl, ku):
+    rng = np.random.default_rng(kl * 10 + ku)
+    n = 40
+    A = np.zeros((n, n))
+    for i in range(n):
+        for j in range(max(0, i - kl), min(n, i + ku + 1)):
+            A[i, j] = rng.normal()
+    A[np.arange(n), np.arange(n)] *= 0.1  # small diagonal: partial pivoting must swap rows
+    AB = np.zeros((2 * kl + ku + 1, n))
+    for i in range(n):
+        for j in range(max(0, i - kl), min(n, i + ku + 1)):
+            AB[kl + ku + i - j, j] = A[i, j]
+    piv = np.zeros(n, dtype=np.int64)
+    assert band_lu(AB, n, kl, ku, piv) == 0
+    b = rng.normal(size=n)
+    x = b.copy()
+    band_solve(AB, n, kl, ku, piv, x)
+    # conditioning of these matrices is ~1e3: 1e-10 leaves a wide margin over round-off
+    assert np.allclose(x, np.linalg.solve(A, b), rtol=0, atol=1e-10 * np.abs(np.linalg.solve(A, b)).max())
+
+
+# ------------------------------------------------------------------------------------------------
+# systems
+
+
+def chain_model(N=20, depth=200.0, friction=None):
+    """One 850 m studless chain leg in 200 m of water (as examples/catenary_3line), fairlead coupled."""
+    env = Environment(depth=depth, kBot=3e6, cBot=3e5)
+    if friction:
+        env.mu = friction
+        env.fric_damp = 2e5
+    m = Model(env=env, options=Options(TmaxIC=60.0))
+    m.add_line_type("chain", d=0.216, w=286.56, EA=1.2298e9, BA=-0.8, Cd=1.33, Ca=1.0, CdAx=0.64, CaAx=0.5)
+    a = m.add_point("fixed", (800.0, 0.0, -depth))
+    f = m.add_point("coupled", (45.0, 0.0, -14.0))
+    m.add_line("chain", a, f, L=850.0, N=N)
+    return m
+
+
+def cable_model(N=35):
+    """examples/wec_cable: 70 m cable with EI clamped to a fixed rod, top end coupled."""
+    m = Model(env=Environment(depth=50.0, kBot=1e5, cBot=1e3), options=Options(TmaxIC=200.0, ICgenDynamic=1))
+    m.add_line_type("cable", d=0.04, w=2.75, EA=94.3e3, BA=-0.5, EI=350.0, Cd=1.2, Ca=1.0, CdAx=0.01)
+    m.add_rod_type("connector", d=0.3, w=50.0, Cd=1.0, Ca=1.0)
+    _, rb = m.add_rod("connector", "fixed", (42.0, 0.0, -48.0), (40.0, 0.0, -48.0), N=2)
+    top = m.add_point("coupled", (0.0, 0.0, -2.0))
+    m.add_line("cable", rb, top, L=70.0, N=N)
+    return m
+
+
+# ------------------------------------------------------------------------------------------------
+# 2. sparsity pattern
+
+
+def dense_pattern(s):
+    """Nonzero pattern (units x units) of the dense finite-difference Jacobian of the
+    accelerations with respect to positions and velocities."""
+    lay = s.layout
+    n3, n6 = lay.n_rows, lay.n_blocks
+    uoff = lay.u_offset
+    L, R, P, E, B, W = s._kernel_arrays()
+    y0 = s.y.copy()
+    rng = np.random.default_rng(3)
+    y0[uoff:] = 0.05 * rng.normal(size=y0.size - uoff)  # moving: drag and damping terms count
+    f0 = np.zeros_like(y0)
+    rhs(0.0, y0, f0, L, R, P, E, B, s._motion, W, 1.0, -1)
+    unit_of_q = [r for r in range(n3) for _ in range(3)] + [n3 + j for j in range(n6) for _ in range(7)]
+    unit_of_u = [r for r in range(n3) for _ in range(3)] + [n3 + j for j in range(n6) for _ in range(6)]
+    nu = n3 + n6
+    pat = np.zeros((nu, nu), dtype=bool)
+    f1 = np.zeros_like(y0)
+    for col in range(y0.size):
+        y = y0.copy()
+        y[col] += 1e-6 * max(1.0, abs(y0[col]))
+        if col < uoff and col >= 3 * n3 and (col - 3 * n3) % 7 >= 3:
+            q = y[3 * n3 + 7 * ((col - 3 * n3) // 7) + 3:3 * n3 + 7 * ((col - 3 * n3) // 7) + 7]
+            q /= np.linalg.norm(q)
+        rhs(0.0, y, f1, L, R, P, E, B, s._motion, W, 1.0, -1)
+        changed = np.nonzero(f1[uoff:] != f0[uoff:])[0]
+        cu = unit_of_q[col] if col < uoff else unit_of_u[col - uoff]
+        for i in changed:
+            pat[unit_of_u[i], cu] = True
+    return pat
+
+
+def check_pattern(s):
+    pat = dense_pattern(s)
+    adj = dependency_graph(s.layout)
+    missing = [(i, j) for i, j in zip(*np.nonzero(pat), strict=True) if j not in adj[i]]
+    assert not missing, f"Jacobian entries outside the colouring pattern: {missing[:10]}"
+
+
+def test_pattern_chain_and_cable():
+    for model in (chain_model(N=12), cable_model(N=12)):
+        s = System(model, scheme="GenAlpha", dtM=0.05)
+        s.init()
+        check_pattern(s)
+
+
+def test_pattern_lazy_wave_with_zero_length_rods():
+    from tests.verification.test_lazy_wave import lazy_wave
+
+    s0 = lazy_wave()
+    s = System(s0.model, scheme="GenAlpha", dtM=0.05)
+    s.y[:] = s0.y
+    s.initialized = True
+    check_pattern(s)
+
+
+@pytest.mark.skipif(not (SHARED / "conformance").exists(), reason="../shared/conformance not present")
+def test_pattern_bodies_and_rods():
+    s = System.from_file(SHARED / "conformance/inputs/bodies_and_rods/BodiesAndRods.dat", scheme="GenAlpha",
+                         dtM=0.05)
+    s.init(solve_ic=False)  # the pattern is structural: any state will do
+    check_pattern(s)
+
+
+# ------------------------------------------------------------------------------------------------
+# 3. Newton statics
+
+
+def test_newton_statics_matches_stationary_solver():
+    m = chain_model(N=20)
+    m.options.threshIC = 1e-7
+    m.options.TmaxIC = 300.0
+    ref = System(m, scheme="RK2", dtM=0.004)
+    ref.model.options.ICNewton = 0
+    ref.init()
+    m2 = chain_model(N=20)
+    s = System(m2, scheme="GenAlpha", dtM=0.1)
+    s.init()
+    assert s.ic_report["method"].endswith("newton") and s.ic_report["converged"]
+    assert s.ic_report["max_acceleration"] < 1e-5
+    # the stationary solver stops at a relative tension change of threshIC per dtIC: 1e-4 of the
+    # tension is well above what it leaves
+    f_ref = ref.coupled_forces()
+    f = s.coupled_forces()
+    assert np.allclose(f, f_ref, rtol=0, atol=1e-4 * np.linalg.norm(f_ref))
+    assert np.allclose(s.lines[0].node_positions(), ref.lines[0].node_positions(), atol=0.01)
+
+
+def test_newton_statics_for_explicit_scheme_on_request():
+    m = chain_model(N=20)
+    m.options.ICNewton = 1
+    s = System(m, scheme="RK2", dtM=0.004)
+    s.init()
+    assert s.ic_report["method"].endswith("newton") and s.ic_report["converged"]
+
+
+# ------------------------------------------------------------------------------------------------
+# 4-5. agreement with RK4
+
+
+def test_chain_in_surge_agrees_with_rk4_and_is_stable_at_large_steps():
+    X_of = lambda x0: smooth_sine(x0, 6.0, 20.0, 10.0, (1, 0, 0))  # noqa: E731
+    T, dto = 40.0, 0.2
+    ref, _ = fairlead_tension(chain_model, "RK4", 0.005, X_of, T, dto)
+    keep = slice(int(10.0 / dto), None)
+    errs = {}
+    for dt in (0.05, 0.1, 0.2):
+        ten, s = fairlead_tension(chain_model, "GenAlpha", dt, X_of, T, dto)
+        errs[dt] = rms_rel(ten[keep], ref[keep])
+        assert s.solver_stats["steps"] >= T / dt - 1  # the step was not cut to stay stable
+    # 1 % of the mean tension at dt = 0.05 s (issue 6; measured 0.6 %). Larger steps stay stable
+    # with second-order error growth (measured 2.6 % at 0.1 s); 0.2 s is only required to run
+    assert errs[0.05] < 0.01, errs
+    assert errs[0.1] < 0.05, errs
+    assert np.isfinite(errs[0.2]), errs
+
+
+def test_friction_drag_agrees_with_rk4():
+    X_of = lambda x0: smooth_sine(x0, 8.0, 30.0, 10.0, (1, 0, 0))  # noqa: E731
+    T, dto = 40.0, 0.1
+    model = lambda: chain_model(friction=0.8)  # noqa: E731
+    ref, sr = fairlead_tension(model, "RK4", 0.005, X_of, T, dto)
+    ten, s = fairlead_tension(model, "GenAlpha", 0.05, X_of, T, dto)
+    assert np.any(sr.work.Fbed[:, 0] != 0.0)  # friction acts
+    keep = slice(int(10.0 / dto), None)
+    assert rms_rel(ten[keep], ref[keep]) < 0.01, s.solver_stats
+
+
+def test_cable_with_bending_agrees_with_rk4():
+    X_of = lambda x0: smooth_sine(x0, 1.5, 8.0, 8.0, (0, 0, 1))  # noqa: E731
+    T, dto = 24.0, 0.05
+    ref, _ = fairlead_tension(cable_model, "RK4", 0.002, X_of, T, dto)
+    ten, s = fairlead_tension(cable_model, "GenAlpha", 0.005, X_of, T, dto)
+    keep = slice(int(8.0 / dto), None)
+    assert rms_rel(ten[keep], ref[keep]) < 0.01, s.solver_stats
+
+
+# ------------------------------------------------------------------------------------------------
+# 6. order of accuracy
+
+
+def suspended_model():
+    """A chain hanging between two coupled points, clear of the seabed (smooth dynamics)."""
+    m = Model(env=Environment(depth=500.0))
+    m.add_line_type("chain", d=0.1, w=60.0, EA=5e8, BA=-0.8, Cd=1.2, Ca=1.0, CdAx=0.4, CaAx=0.5)
+    a = m.add_point("coupled", (-100.0, 0.0, -50.0))
+    b = m.add_point("coupled", (100.0, 0.0, -50.0))
+    m.add_line("chain", a, b, L=230.0, N=10)
+    return m
+
+
+def test_observed_order_is_two():
+    X_of = lambda x0: smooth_sine(x0, 5.0, 12.0, 4.0, (1, 0, 1))  # noqa: E731
+    T = 8.0
+
+    def final_positions(h):
+        s = System(suspended_model(), scheme="GenAlpha", dtM=h)
+        x0 = s.deck_coupled_positions()
+        X = X_of(x0)
+        s.init(X(0.0), np.zeros_like(x0))
+        # one spline for every run; its knots (which steps never cross) at the largest step
+        s.advance_to(T, Trajectory.from_function(X, T, 0.2, "cubic").as_motion())
+        return s.lines[0].node_positions()
+
+    ref = final_positions(0.2 / 128)
+    errs = [np.abs(final_positions(h) - ref).max() for h in (0.1, 0.05, 0.025)]
+    orders = [math.log2(errs[i] / errs[i + 1]) for i in range(2)]
+    # second order: 2 within the pre-asymptotic scatter of a nonlinear system
+    assert all(1.7 < p < 2.6 for p in orders), (errs, orders)
+
+
+def test_gen_alpha_parameters():
+    am, af, beta, gamma = gen_alpha_parameters(1.0)
+    assert (am, af, beta, gamma) == (0.5, 0.5, 0.25, 0.5)  # trapezoidal rule
+    am, af, beta, gamma = gen_alpha_parameters(0.0)
+    assert gamma == pytest.approx(0.5 - am + af) and beta == pytest.approx(0.25 * (1 - am + af) ** 2)
