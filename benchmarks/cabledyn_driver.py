@@ -49,6 +49,7 @@ Not part of the test suite: timings depend on the machine and on what else runs 
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import math
 import os
@@ -337,8 +338,11 @@ def run_cabledyn(case: str | Case, n_elements_per_line: int, dt: float, duration
         ``wall_steps``: the part spent inside ``CableDyn.step``; ``startup``: deck parsing, meshing
         and the static solve (``CableDyn(deck)``) [s]; ``t``: sample times (0, dt, ...) [s];
         ``fairlead_tension``: (n_t, n_lines) FairTen of each line (coupled end) [N];
-        ``newton_iterations``: total Newton iterations; ``nodes``: mesh nodes of all lines;
-        ``deck``: the translated deck's text.
+        ``newton_iterations``: total Newton iterations (``CableDyn.step`` reports 0 for decks with
+        finite-EI lines); ``nodes``: nodes of all lines after CableDyn's static solve (it refines a
+        finite-EI mesh too coarse for the curvature of the equilibrium: 17 requested elements of the
+        lazy-wave cable become 168); ``layout``: the coupled DOF blocks; ``deck``: the translated
+        deck's text.
     """
     from cabledyn import CableDyn
 
@@ -422,8 +426,8 @@ def refine_moordyn_deck(text: str, model, n_segments_per_line: int | None = None
         Segments per physical line (split over joined lines in proportion to their lengths).
     dtM : float, optional
     damping : {"deck", "ratio"}
-        "deck": replace a negative BA by the absolute BA of the deck's own segments, so that the
-        physical damping stays that of the deck when the segments change.
+        "deck": when the segments change, replace a negative BA by the absolute BA of the deck's
+        own segments, so that the physical damping stays that of the deck.
     options : dict, optional
         Further OPTIONS rows ``{keyword: value}`` (replaced or added).
 
@@ -438,7 +442,7 @@ def refine_moordyn_deck(text: str, model, n_segments_per_line: int | None = None
             for i, n in zip(ch.lines, _distribute(n_segments_per_line, lengths), strict=True):
                 new_n[i] = n
     ba_of_type = {}
-    if damping == "deck":
+    if damping == "deck" and n_segments_per_line is not None:
         for ln in model.lines:
             lt = model.line_types[ln.line_type]
             ba = _absolute_ba(lt, ln.L / ln.N)
@@ -571,3 +575,86 @@ def tension_error(reference: dict, result: dict, t_start: float) -> float:
         diff = result["fairlead_tension"][keep, j] - ref
         worst = max(worst, float(np.sqrt(np.mean(diff**2)) / np.mean(ref)))
     return worst
+
+
+# ------------------------------------------------------------------------------------------ study
+#: references and grids of the study (:func:`main`): segments or elements per line, steps [s]
+STUDY = {
+    "catenary": {"cd_ref": (160, 0.01), "md_ref": (160, 1e-4, 0.01), "md_outer": 0.1,
+                 "cd_grid": ((5, 8, 10, 12, 15, 20, 30, 40), (2.0, 1.0, 0.5, 0.25, 0.1)),
+                 "md_grid": ((8, 10, 12, 15, 20, 30), (0.005, 0.002))},
+    "lazy_wave": {"cd_ref": (274, 0.01), "md_ref": (274, 5e-5, 0.005), "md_outer": 0.01,
+                  "cd_grid": ((17, 34, 64, 100, 137), (0.5, 0.2, 0.1, 0.05)),
+                  "md_grid": ((23, 35, 46, 69, 137), (0.005, 0.002, 0.0005))},
+}
+#: the same with coarse references and few settings (``--quick``)
+QUICK = {
+    "catenary": {"cd_ref": (80, 0.02), "md_ref": (80, 2.5e-4, 0.02), "md_outer": 0.1,
+                 "cd_grid": ((10, 15, 20), (1.0, 0.5)), "md_grid": ((12, 15), (0.005,))},
+    "lazy_wave": {"cd_ref": (137, 0.02), "md_ref": (137, 2e-4, 0.005), "md_outer": 0.01,
+                  "cd_grid": ((17, 64), (0.5, 0.2)), "md_grid": ((35, 69), (0.005,))},
+}
+
+
+def _timed(func, args: tuple, kwargs: dict, repeat: int) -> dict:
+    """Call ``func(*args, **kwargs)`` ``repeat`` times; the first result with the median wall and
+    startup times."""
+    results = [func(*args, **kwargs) for _ in range(max(1, repeat))]
+    out = dict(results[0])
+    for key in ("wall", "startup"):
+        out[key] = float(np.median([r[key] for r in results]))
+    return out
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--cases", default="catenary,lazy_wave", help="comma-separated subset")
+    ap.add_argument("--repeat", type=int, default=3, help="timing repeats (median)")
+    ap.add_argument("--quick", action="store_true", help="coarse references, few settings")
+    ap.add_argument("--tol", type=float, default=0.01, help="accuracy target: RMS error / mean tension")
+    args = ap.parse_args(argv)
+    study = QUICK if args.quick else STUDY
+    for name in args.cases.split(","):
+        case, st = CASES[name], study[name]
+        t_start = case.ramp
+        motion = "surge" if case.axis == 0 else "heave"
+        print(f"== {name}: {case.duration:g} s, {case.amplitude:g} m {motion} of {case.period:g} s period after a "
+              f"{case.ramp:g} s ramp; tensions compared from t = {t_start:g} s ==")
+        n, dt = st["cd_ref"]
+        ref_cd = run_cabledyn(case, n, dt)
+        print(f"reference CableDyn: {n} elements per line ({ref_cd['nodes']} nodes), dt {dt:g} s: "
+              f"wall {ref_cd['wall']:.2f} s")
+        n, dtm, outer = st["md_ref"]
+        ref_md = run_moordyn(case, n, dtm, outer_dt=outer)
+        print(f"reference MoorDyn: {n} segments per line ({ref_md['nodes']} nodes), dtM {dtm:g} s, coupling step "
+              f"{outer:g} s: wall {ref_md['wall']:.2f} s")
+        print(f"references: RMS difference {100 * tension_error(ref_md, ref_cd, t_start):.3f} % of the mean tension")
+        head = (f"{'code':<9} {'n/line':>6} {'nodes':>6} {'step s':>8} {'startup s':>9} {'wall s':>8} "
+                f"{'err vs CD':>9} {'err vs MD':>9}")
+        print(head)
+        print("-" * len(head))
+        ns, dts = st["cd_grid"]
+        rows = [("CableDyn", n, dt, run_cabledyn, {}) for n in ns for dt in dts]
+        ns, dtms = st["md_grid"]
+        rows += [("MoorDyn", n, dtm, run_moordyn, {"outer_dt": max(st["md_outer"], dtm)}) for n in ns for dtm in dtms]
+        best = {}
+        for code, n, step, func, kw in rows:
+            try:
+                r = _timed(func, (case, n, step), kw, args.repeat)
+            except Exception as exc:  # an unstable run is a result too
+                print(f"{code:<9} {n:>6} {'':>6} {step:>8g}  failed: {str(exc).splitlines()[0][:70]}")
+                continue
+            e_cd, e_md = tension_error(ref_cd, r, t_start), tension_error(ref_md, r, t_start)
+            print(f"{code:<9} {n:>6} {r['nodes']:>6} {step:>8g} {r['startup']:>9.3f} {r['wall']:>8.3f} "
+                  f"{100 * e_cd:>8.3f}% {100 * e_md:>8.3f}%")
+            if max(e_cd, e_md) <= args.tol and (code not in best or r["wall"] < best[code][2]):
+                best[code] = (n, step, r["wall"], r["startup"])
+        for code, (n, step, wall, startup) in best.items():
+            print(f"cheapest {code} within {100 * args.tol:g} % of both references: {n} per line, step {step:g} s, "
+                  f"wall {wall:.3f} s (+ start-up {startup:.3f} s)")
+        print()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
