@@ -50,7 +50,6 @@ Not part of the test suite: timings depend on the machine and on what else runs 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 import os
 import re
@@ -61,6 +60,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from bench_vs_moordyn import quiet_fds
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("MOORLINE_SHARED", ROOT.parent / "shared"))
@@ -388,26 +388,6 @@ def run_cabledyn(case: str | Case, n_elements_per_line: int, dt: float, duration
 
 
 # -------------------------------------------------------------------------------------- MoorDyn run
-@contextlib.contextmanager
-def _quiet_fds():
-    """Silence MoorDyn's console output (C-level stdout/stderr)."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    saved = os.dup(1), os.dup(2)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 1)
-    os.dup2(devnull, 2)
-    try:
-        yield
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved[0], 1)
-        os.dup2(saved[1], 2)
-        os.close(devnull)
-        os.close(saved[0])
-        os.close(saved[1])
-
-
 _TABLES = {"LINE TYPES": "types", "LINE DICTIONARY": "types", "LINES": "lines", "LINE PROPERTIES": "lines",
            "OPTIONS": "options", "SOLVER OPTIONS": "options"}
 
@@ -532,7 +512,7 @@ def run_moordyn(case: str | Case, n_segments_per_line: int | None = None, dtM: f
         cwd = os.getcwd()
         os.chdir(tmp)
         try:
-            with _quiet_fds():
+            with quiet_fds():
                 t0 = time.perf_counter()
                 s = md.Create(deck.name)
                 n = md.NCoupledDOF(s)

@@ -39,7 +39,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .integrate import check_state
+from .integrate import check_state, knot_step, step_end
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
 from .rhs import motion_piece, rhs
 
@@ -435,6 +435,34 @@ def _assemble(A, IW, f0, f1, uoff, cu, k, diag, eps):
 
 
 @njit(cache=True, error_model="numpy")
+def _fd_steps(IW, n3, n6, rel, div):
+    """Finite-difference perturbation of each unknown into IW.eps: ``rel`` times the size of its
+    coordinate at the start (at least 1; rotations 1), divided by ``div`` (the factor from the
+    unknown to the position it moves)."""
+    for i in range(IW.eps.size):
+        q = IW.y0[i] if i < 3 * n3 else 0.0
+        IW.eps[i] = rel * max(1.0, abs(q)) / div
+    for j in range(n6):
+        d = 3 * n3 + 6 * j
+        o = 3 * n3 + 7 * j
+        for c in range(3):
+            IW.eps[d + c] = rel * max(1.0, abs(IW.y0[o + c])) / div
+
+
+@njit(cache=True, error_model="numpy")
+def _shift_colour(A, cu, k, v, eps, sign):
+    """v += sign * eps on the columns of colour (cu, component k); False if there are none."""
+    any_col = False
+    for m in range(A.col_ptr[cu], A.col_ptr[cu + 1]):
+        uj = A.col_units[m]
+        if k < A.ncomp[uj]:
+            col = A.udof[uj] + k
+            v[col] += sign * eps[col]
+            any_col = True
+    return any_col
+
+
+@njit(cache=True, error_model="numpy")
 def _step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     """Jacobian of the generalized-alpha residual with respect to a1 at the current iterate
     (IW.f0 must hold the derivative at the iterate), factored in place. Returns the LU status."""
@@ -446,15 +474,8 @@ def _step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     beta = par[2]
     cx = beta * h * h * (1.0 - af)
     nd = IW.a1.size
-    for i in range(nd):
-        # position perturbation ~ 1e-8 of the coordinate (at least 1e-8 m or rad)
-        q = IW.y0[i] if i < 3 * n3 else 0.0
-        IW.eps[i] = 1e-8 * max(1.0, abs(q)) / cx
-    for j in range(n6):
-        d = 3 * n3 + 6 * j
-        o = 3 * n3 + 7 * j
-        for c in range(3):
-            IW.eps[d + c] = 1e-8 * max(1.0, abs(IW.y0[o + c])) / cx
+    # position perturbation ~ 1e-8 of the coordinate (at least 1e-8 m or rad)
+    _fd_steps(IW, n3, n6, 1e-8, cx)
     IW.AB[:, :] = 0.0
     f1 = IW.f1
     nc = A.col_ptr.size - 1
@@ -462,23 +483,12 @@ def _step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     scratch = IW.da  # G and f0 (the residual at the iterate) stay valid
     for cu in range(nc):
         for k in range(kmax):
-            any_col = False
-            for m in range(A.col_ptr[cu], A.col_ptr[cu + 1]):
-                uj = A.col_units[m]
-                if k < A.ncomp[uj]:
-                    col = A.udof[uj] + k
-                    IW.a1[col] += IW.eps[col]
-                    any_col = True
-            if not any_col:
+            if not _shift_colour(A, cu, k, IW.a1, IW.eps, 1.0):
                 continue
             _newmark(IW.y0, IW.a0, IW.a1, h, par, y, IW.ya, n3, n6, scratch)
             rhs(t + (1.0 - af) * h, IW.ya, f1, L, R, P, E, B, Mo, W, par[8], piece)
             IW.stat[S_NRHS] += 1
-            for m in range(A.col_ptr[cu], A.col_ptr[cu + 1]):
-                uj = A.col_units[m]
-                if k < A.ncomp[uj]:
-                    col = A.udof[uj] + k
-                    IW.a1[col] -= IW.eps[col]
+            _shift_colour(A, cu, k, IW.a1, IW.eps, -1.0)
             _assemble(A, IW, IW.f0, f1, uoff, cu, k, 1.0 - par[0], IW.eps)
     IW.stat[S_NJAC] += 1
     IW.stat[S_HJ] = h
@@ -634,17 +644,11 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
         stat[S_AVALID] = 1.0
     tol = 1e-9 * dtM
     hmin = dtM / 4096.0
-    nk = Mo.t.size
     j = 0
     piece = -1
     h_cur = min(stat[S_H], dtM) if stat[S_H] > 0.0 else dtM
     while t_end - t > tol:
-        h = min(h_cur, t_end - t)
-        while j < nk and Mo.t[j] <= t + tol:
-            j += 1
-        if j < nk and Mo.t[j] - t < h:
-            h = Mo.t[j] - t
-        # an end-of-interval remainder shorter than a tenth of the step: stretch the step instead
+        h, j = knot_step(Mo, j, t, min(h_cur, t_end - t), tol)
         piece = motion_piece(Mo, t + 0.5 * h)
         if gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece) != 0:
             stat[S_NREJ] += 1
@@ -654,12 +658,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
                 return t, 2, int(stat[S_WORST]), piece
             continue
         stat[S_NSTEP] += 1
-        if t_end - (t + h) <= tol:
-            t = t_end
-        elif j < nk and abs(Mo.t[j] - (t + h)) <= tol:
-            t = Mo.t[j]
-        else:
-            t = t + h
+        t = step_end(Mo, j, t, h, t_end, tol)
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             stat[S_H] = h_cur
@@ -682,14 +681,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
     nd = IW.a1.size
-    for i in range(nd):
-        q = IW.y0[i] if i < 3 * n3 else 0.0
-        IW.eps[i] = 1e-7 * max(1.0, abs(q))
-    for j in range(n6):
-        d = 3 * n3 + 6 * j
-        o = 3 * n3 + 7 * j
-        for c in range(3):
-            IW.eps[d + c] = 1e-7 * max(1.0, abs(IW.y0[o + c]))
+    _fd_steps(IW, n3, n6, 1e-7, 1.0)
     IW.AB[:, :] = 0.0
     nc = A.col_ptr.size - 1
     kmax = 6 if n6 > 0 else 3
@@ -698,14 +690,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
         for k in range(kmax):
             for i in range(nd):
                 dq[i] = 0.0
-            any_col = False
-            for m in range(A.col_ptr[cu], A.col_ptr[cu + 1]):
-                uj = A.col_units[m]
-                if k < A.ncomp[uj]:
-                    col = A.udof[uj] + k
-                    dq[col] = IW.eps[col]
-                    any_col = True
-            if not any_col:
+            if not _shift_colour(A, cu, k, dq, IW.eps, 1.0):
                 continue
             for i in range(y.size):
                 y[i] = IW.y0[i]

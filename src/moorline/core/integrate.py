@@ -182,6 +182,30 @@ def check_state(y, vmax, n3, n6):
 
 
 @njit(cache=True, error_model="numpy")
+def knot_step(Mo, j, t, h, tol):
+    """Shorten a step of length ``h`` from ``t`` so that it does not cross a knot of the coupled
+    trajectory ``Mo``; ``j`` is the index of the first knot not yet passed (advanced here).
+    Returns (h, j)."""
+    nk = Mo.t.size
+    while j < nk and Mo.t[j] <= t + tol:
+        j += 1
+    if j < nk and Mo.t[j] - t < h:
+        h = Mo.t[j] - t
+    return h, j
+
+
+@njit(cache=True, error_model="numpy")
+def step_end(Mo, j, t, h, t_end, tol):
+    """Time after a step of length ``h`` from ``t``: snapped to ``t_end`` or to the knot ``j``
+    when it ends within ``tol`` of them (so round-off never leaves a sliver of a step)."""
+    if t_end - (t + h) <= tol:
+        return t_end
+    if j < Mo.t.size and abs(Mo.t[j] - (t + h)) <= tol:
+        return Mo.t[j]
+    return t + h
+
+
+@njit(cache=True, error_model="numpy")
 def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
     ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory
@@ -198,27 +222,15 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vma
         Trajectory piece of the last step (-1 if no step was taken).
     """
     tol = 1e-9 * dtM
-    nk = Mo.t.size
     j = 0
     n_steps = 0
     piece = -1
     while t_end - t > tol:
-        h = t_end - t
-        if dtM < h:
-            h = dtM
-        while j < nk and Mo.t[j] <= t + tol:
-            j += 1
-        if j < nk and Mo.t[j] - t < h:
-            h = Mo.t[j] - t
+        h, j = knot_step(Mo, j, t, min(dtM, t_end - t), tol)
         piece = motion_piece(Mo, t + 0.5 * h)
         step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
         n_steps += 1
-        if t_end - (t + h) <= tol:
-            t = t_end
-        elif j < nk and abs(Mo.t[j] - (t + h)) <= tol:
-            t = Mo.t[j]
-        else:
-            t = t + h
+        t = step_end(Mo, j, t, h, t_end, tol)
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             return t, bad, n_steps, piece
