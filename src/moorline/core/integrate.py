@@ -85,13 +85,13 @@ def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
     return Scheme.RK2, params, "RK2"
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _axpy(out, y, h, k):
     for i in range(y.size):
         out[i] = y[i] + h * k[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch;
     for the implicit schemes ``S[3]`` keeps the derivative of the previous step (zero at the
@@ -128,7 +128,7 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
             y[i] += c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     """MoorDyn's implicit Euler family: M fixed-point iterations of y* = y + c h f, f = f(t + c h, y*),
     relaxed between iterations with rho_m = c0 (1 - 1/M) + c1 (1 - (tanh(4 ((m+1)/M - 1/2)) + 1)/2),
@@ -156,7 +156,7 @@ def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
         y[i] += h * f[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def check_state(y, vmax, n3, n6):
     """Index of the first state row (3-DOF rows, then 6-DOF blocks numbered n3 + j) with a
     non-finite value or a speed above ``vmax``, else -1."""
@@ -181,7 +181,7 @@ def check_state(y, vmax, n3, n6):
     return -1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def knot_step(Mo, j, t, h, tol):
     """Shorten a step of length ``h`` from ``t`` so that it does not cross a knot of the coupled
     trajectory ``Mo``; ``j`` is the index of the first knot not yet passed (advanced here).
@@ -194,7 +194,7 @@ def knot_step(Mo, j, t, h, tol):
     return h, j
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def step_end(Mo, j, t, h, t_end, tol):
     """Time after a step of length ``h`` from ``t``: snapped to ``t_end`` or to the knot ``j``
     when it ends within ``tol`` of them (so round-off never leaves a sliver of a step)."""
@@ -205,7 +205,7 @@ def step_end(Mo, j, t, h, t_end, tol):
     return t + h
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
     ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory

@@ -228,6 +228,11 @@ class Work(NamedTuple):
     xc: np.ndarray  # (n_coupled_dof,) coupled positions at the current time
     vc: np.ndarray  # (n_coupled_dof,) coupled velocities
     ac: np.ndarray  # (n_coupled_dof,) coupled accelerations
+    # scratch of the rigid-object kernels, which allocate nothing (they run without numba's
+    # reference counting, see core.numerics)
+    m33: np.ndarray  # (5, 3, 3)
+    v6: np.ndarray  # (3, 6)
+    dense: np.ndarray  # (6, 7) augmented matrix of the small dense solves
 
 
 class Motion(NamedTuple):
@@ -299,7 +304,7 @@ class Layout:
                     bv=z((nb, 3)), bw=z((nb, 3)), bU=z((nb, 3)), fk=z((max(nn, nrn, npnt, nb, 1), 8)),
                     b6F=z((nb, 6)), b6M=z((nb, 6, 6)), bacc=z((nb, 6)), pr=z((npnt, 3)), pv=z((npnt, 3)),
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
-                    ac=z(nc))
+                    ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)))
 
 
 def effective_depth(model: Model) -> float:

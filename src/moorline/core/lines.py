@@ -20,7 +20,7 @@ from .seabed import seabed_at, seabed_force, seabed_force_stickslip
 _EPS = 1e-12
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def table_interp(x, y, start, n, v):
     """Piecewise-linear interpolation in ``x[start:start+n]``, clamped at both ends."""
     if v <= x[start]:
@@ -33,7 +33,7 @@ def table_interp(x, y, start, n, v):
     return y[lo] + f * (y[lo + 1] - y[lo])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
     """Submerged fraction of the segment between nodes ``a`` and ``b`` of ``r`` (spec 3.6)."""
     zs = 0.5 * (zeta_a + zeta_b)
@@ -65,42 +65,40 @@ def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
     return -zlow / (-zlow + zup)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def line_forces(li, L, E, B, W, cd_scale):
-    """Evaluate every load of line ``li`` and the accelerations of its internal nodes.
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def line_forces(L, E, B, W, cd_scale):
+    """Evaluate every load of every line and the accelerations of the internal line nodes.
 
     Parameters
     ----------
-    li : int
-        Line index.
     L, E, B, W : LineArrays, EnvArrays, Seabed, Work
     cd_scale : float
         Drag multiplier (1, or CdScaleIC during dynamic relaxation).
+
+    All lines are done in one call, in three passes (segments, bending, nodes), so the arrays
+    are bound to locals once per evaluation: every binding of an array from a NamedTuple costs a
+    pair of atomic reference-count updates, which per line and per evaluation was a third of the
+    cost of a small system.
     """
-    n0 = L.node_ptr[li]
-    N = L.node_ptr[li + 1] - n0 - 1
-    s0 = L.seg_ptr[li]
-    d = L.d[li]
-    A = L.A[li]
-    w = L.w[li]
     rho = E.rho
     g = E.g
-    Cd = L.Cd[li] * cd_scale
-    CdAx = L.CdAx[li] * cd_scale
-    Ca = L.Ca[li]
-    CaAx = L.CaAx[li]
-    ea0 = L.ea_tab[li, 0]
-    ean = L.ea_tab[li, 1]
-    ba0 = L.ba_tab[li, 0]
-    ban = L.ba_tab[li, 1]
-
-    # arrays bound once per call: reading them from the NamedTuple inside the loops costs a
-    # reference-count update per access
     seg_l0 = L.seg_l0
     seg_EA = L.seg_EA
     seg_BA = L.seg_BA
     tab_x = L.tab_x
     tab_y = L.tab_y
+    node_ptr = L.node_ptr
+    seg_ptr = L.seg_ptr
+    Ld = L.d
+    LA = L.A
+    Lw = L.w
+    LCd = L.Cd
+    LCdAx = L.CdAx
+    LCa = L.Ca
+    LCaAx = L.CaAx
+    ea_tab = L.ea_tab
+    ba_tab = L.ba_tab
+    clamped = L.clamped
     r = W.r
     v = W.v
     w_U = W.U
@@ -129,191 +127,211 @@ def line_forces(li, L, E, B, W, cd_scale):
     flat = gx.size == 0
     stickslip = E.fric == FRIC_STICKSLIP
     stick_commit = stickslip and ctl[0] != 0 and ctl[1] != 0
-    clamped_a = L.clamped[li, 0] != 0
-    clamped_b = L.clamped[li, 1] != 0
+    nl = node_ptr.size - 1
 
     # ---- segments: length, direction, strain, tension, damping, submergence
-    for k in range(N):
-        s = s0 + k
-        a = n0 + k
-        b = a + 1
-        ex, ey, ez, ls = unit3(r[b, 0] - r[a, 0], r[b, 1] - r[a, 1], r[b, 2] - r[a, 2])
-        ldot = ex * (v[b, 0] - v[a, 0]) + ey * (v[b, 1] - v[a, 1]) + ez * (v[b, 2] - v[a, 2])
-        l0 = seg_l0[s]
-        strain = ls / l0 - 1.0
-        if strain > 0.0:
-            if ean > 0:
-                Tm = table_interp(tab_x, tab_y, ea0, ean, strain)
+    for li in range(nl):
+        n0 = node_ptr[li]
+        N = node_ptr[li + 1] - n0 - 1
+        s0 = seg_ptr[li]
+        d = Ld[li]
+        ea0 = ea_tab[li, 0]
+        ean = ea_tab[li, 1]
+        ba0 = ba_tab[li, 0]
+        ban = ba_tab[li, 1]
+        for k in range(N):
+            s = s0 + k
+            a = n0 + k
+            b = a + 1
+            ex, ey, ez, ls = unit3(r[b, 0] - r[a, 0], r[b, 1] - r[a, 1], r[b, 2] - r[a, 2])
+            ldot = ex * (v[b, 0] - v[a, 0]) + ey * (v[b, 1] - v[a, 1]) + ez * (v[b, 2] - v[a, 2])
+            l0 = seg_l0[s]
+            strain = ls / l0 - 1.0
+            if strain > 0.0:
+                if ean > 0:
+                    Tm = table_interp(tab_x, tab_y, ea0, ean, strain)
+                else:
+                    Tm = seg_EA[s] * strain
             else:
-                Tm = seg_EA[s] * strain
-        else:
-            Tm = 0.0
-        rate = ldot / l0
-        if ban > 0:
-            if tab_x[ba0] < 0.0:
-                Dm = table_interp(tab_x, tab_y, ba0, ban, rate)
+                Tm = 0.0
+            rate = ldot / l0
+            if ban > 0:
+                if tab_x[ba0] < 0.0:
+                    Dm = table_interp(tab_x, tab_y, ba0, ban, rate)
+                else:
+                    Dm = table_interp(tab_x, tab_y, ba0, ban, abs(rate))
+                    if rate < 0.0:
+                        Dm = -Dm
             else:
-                Dm = table_interp(tab_x, tab_y, ba0, ban, abs(rate))
-                if rate < 0.0:
-                    Dm = -Dm
-        else:
-            Dm = seg_BA[s] * rate
-        w_T[s, 0] = Tm * ex
-        w_T[s, 1] = Tm * ey
-        w_T[s, 2] = Tm * ez
-        w_Td[s, 0] = Dm * ex
-        w_Td[s, 1] = Dm * ey
-        w_Td[s, 2] = Dm * ez
-        w_seg_len[s] = ls
-        w_seg_ldot[s] = ldot
-        seg_e[s, 0] = ex
-        seg_e[s, 1] = ey
-        seg_e[s, 2] = ez
-        w_seg_F[s] = segment_wet_fraction(r, a, b, w_zeta[a], w_zeta[b], d)
+                Dm = seg_BA[s] * rate
+            w_T[s, 0] = Tm * ex
+            w_T[s, 1] = Tm * ey
+            w_T[s, 2] = Tm * ez
+            w_Td[s, 0] = Dm * ex
+            w_Td[s, 1] = Dm * ey
+            w_Td[s, 2] = Dm * ez
+            w_seg_len[s] = ls
+            w_seg_ldot[s] = ldot
+            seg_e[s, 0] = ex
+            seg_e[s, 1] = ey
+            seg_e[s, 2] = ez
+            w_seg_F[s] = segment_wet_fraction(r, a, b, w_zeta[a], w_zeta[b], d)
 
     # ---- curvature and bending forces (spec 3.10)
-    line_bending(li, L, W)
+    line_bending(L, W)
 
     # ---- nodes
-    for i in range(N + 1):
-        n = n0 + i
-        # tangent
-        if i == 0:
-            ia = n
-            ib = n + 1
-        elif i == N:
-            ia = n - 1
-            ib = n
-        else:
-            ia = n - 1
-            ib = n + 1
-        qx, qy, qz, _ = unit3(r[ib, 0] - r[ia, 0], r[ib, 1] - r[ia, 1], r[ib, 2] - r[ia, 2])
-        if (i == 0 and clamped_a) or (i == N and clamped_b):
-            qx, qy, qz = end_tangent(L, W, li, 0 if i == 0 else 1)
-        w_q[n, 0] = qx
-        w_q[n, 1] = qy
-        w_q[n, 2] = qz
-
-        # lengths: unstretched nodal length and submerged nodal length
-        lam = 0.0
-        lamw = 0.0
-        if i > 0:
-            lL = seg_l0[s0 + i - 1]
-            lam += 0.5 * lL
-            lamw += 0.5 * lL * w_seg_F[s0 + i - 1]
-        if i < N:
-            lR = seg_l0[s0 + i]
-            lam += 0.5 * lR
-            lamw += 0.5 * lR * w_seg_F[s0 + i]
-        m = w * lam
-        vol = A * lamw
-
-        # internal forces
-        fx = 0.0
-        fy = 0.0
-        fz = 0.0
-        if i < N:
-            s = s0 + i
-            fx += w_T[s, 0] + w_Td[s, 0]
-            fy += w_T[s, 1] + w_Td[s, 1]
-            fz += w_T[s, 2] + w_Td[s, 2]
-        if i > 0:
-            s = s0 + i - 1
-            fx -= w_T[s, 0] + w_Td[s, 0]
-            fy -= w_T[s, 1] + w_Td[s, 1]
-            fz -= w_T[s, 2] + w_Td[s, 2]
-
-        # weight and buoyancy
-        wz = -g * (m - rho * vol)
-        w_W[n, 0] = 0.0
-        w_W[n, 1] = 0.0
-        w_W[n, 2] = wz
-
-        # Morison drag on the relative velocity, split along the tangent
-        ux = w_U[n, 0] - v[n, 0]
-        uy = w_U[n, 1] - v[n, 1]
-        uz = w_U[n, 2] - v[n, 2]
-        uq = ux * qx + uy * qy + uz * qz
-        uqx = uq * qx
-        uqy = uq * qy
-        uqz = uq * qz
-        upx = ux - uqx
-        upy = uy - uqy
-        upz = uz - uqz
-        upm = math.sqrt(upx * upx + upy * upy + upz * upz)
-        cp = 0.5 * rho * Cd * d * lamw * upm
-        cq = 0.5 * rho * CdAx * math.pi * d * lamw * abs(uq)
-        # fluid inertia (Froude-Krylov + added mass of the fluid acceleration)
-        aq = w_Ud[n, 0] * qx + w_Ud[n, 1] * qy + w_Ud[n, 2] * qz
-        ip = rho * (1.0 + Ca) * vol
-        iq = rho * (1.0 + CaAx) * vol
-        hx = cp * upx + cq * uqx + ip * (w_Ud[n, 0] - aq * qx) + iq * aq * qx
-        hy = cp * upy + cq * uqy + ip * (w_Ud[n, 1] - aq * qy) + iq * aq * qy
-        hz = cp * upz + cq * uqz + ip * (w_Ud[n, 2] - aq * qz) + iq * aq * qz
-        w_Fhyd[n, 0] = hx
-        w_Fhyd[n, 1] = hy
-        w_Fhyd[n, 2] = hz
-
-        # seabed contact and friction
-        if flat:
-            zb = -E.depth
-            bnx = 0.0
-            bny = 0.0
-            bnz = 1.0
-        else:
-            zb, bnx, bny, bnz, outside = seabed_at(gx, gy, gz, E.depth, r[n, 0], r[n, 1])
-            if outside:
-                ctl[2] += 1
-        if r[n, 2] < zb:
-            if stickslip:
-                bx, by, bz = seabed_force_stickslip(E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1],
-                                                    r[n, 2], v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam)
+    for li in range(nl):
+        n0 = node_ptr[li]
+        N = node_ptr[li + 1] - n0 - 1
+        s0 = seg_ptr[li]
+        d = Ld[li]
+        A = LA[li]
+        w = Lw[li]
+        Cd = LCd[li] * cd_scale
+        CdAx = LCdAx[li] * cd_scale
+        Ca = LCa[li]
+        CaAx = LCaAx[li]
+        clamped_a = clamped[li, 0] != 0
+        clamped_b = clamped[li, 1] != 0
+        for i in range(N + 1):
+            n = n0 + i
+            # tangent
+            if i == 0:
+                ia = n
+                ib = n + 1
+            elif i == N:
+                ia = n - 1
+                ib = n
             else:
-                bx, by, bz = seabed_force(E, zb, bnx, bny, bnz, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1],
-                                          v[n, 2], qx, qy, qz, d, lam)
-        else:
-            bx = 0.0
-            by = 0.0
-            bz = 0.0
-            if stick_commit:
-                # off the seabed: the friction spring of the node is relaxed at its position
-                anchor[n, 0] = r[n, 0]
-                anchor[n, 1] = r[n, 1]
-                anchor[n, 2] = r[n, 2]
-                slip[n, 0] = 0.0
-                slip[n, 1] = 0.0
-        w_Fbed[n, 0] = bx
-        w_Fbed[n, 1] = by
-        w_Fbed[n, 2] = bz
+                ia = n - 1
+                ib = n + 1
+            qx, qy, qz, _ = unit3(r[ib, 0] - r[ia, 0], r[ib, 1] - r[ia, 1], r[ib, 2] - r[ia, 2])
+            if (i == 0 and clamped_a) or (i == N and clamped_b):
+                qx, qy, qz = end_tangent(L, W, li, 0 if i == 0 else 1)
+            w_q[n, 0] = qx
+            w_q[n, 1] = qy
+            w_q[n, 2] = qz
 
-        fx += hx + bx + Fbend[n, 0]
-        fy += hy + by + Fbend[n, 1]
-        fz += wz + hz + bz + Fbend[n, 2]
-        w_F[n, 0] = fx
-        w_F[n, 1] = fy
-        w_F[n, 2] = fz
+            # lengths: unstretched nodal length and submerged nodal length
+            lam = 0.0
+            lamw = 0.0
+            if i > 0:
+                lL = seg_l0[s0 + i - 1]
+                lam += 0.5 * lL
+                lamw += 0.5 * lL * w_seg_F[s0 + i - 1]
+            if i < N:
+                lR = seg_l0[s0 + i]
+                lam += 0.5 * lR
+                lamw += 0.5 * lR * w_seg_F[s0 + i]
+            m = w * lam
+            vol = A * lamw
 
-        ma = rho * vol * Ca
-        mq = rho * vol * CaAx
-        w_mass[n, 0] = m
-        w_mass[n, 1] = ma
-        w_mass[n, 2] = mq
-        if 0 < i < N:
-            # closed-form inverse of m I + ma (I - q q^T) + mq q q^T
-            fq = fx * qx + fy * qy + fz * qz
-            ip = 1.0 / (m + ma)
-            iq = 1.0 / (m + mq)
-            w_acc[n, 0] = (fx - fq * qx) * ip + fq * qx * iq
-            w_acc[n, 1] = (fy - fq * qy) * ip + fq * qy * iq
-            w_acc[n, 2] = (fz - fq * qz) * ip + fq * qz * iq
-        else:
-            w_acc[n, 0] = 0.0
-            w_acc[n, 1] = 0.0
-            w_acc[n, 2] = 0.0
+            # internal forces
+            fx = 0.0
+            fy = 0.0
+            fz = 0.0
+            if i < N:
+                s = s0 + i
+                fx += w_T[s, 0] + w_Td[s, 0]
+                fy += w_T[s, 1] + w_Td[s, 1]
+                fz += w_T[s, 2] + w_Td[s, 2]
+            if i > 0:
+                s = s0 + i - 1
+                fx -= w_T[s, 0] + w_Td[s, 0]
+                fy -= w_T[s, 1] + w_Td[s, 1]
+                fz -= w_T[s, 2] + w_Td[s, 2]
+
+            # weight and buoyancy
+            wz = -g * (m - rho * vol)
+            w_W[n, 0] = 0.0
+            w_W[n, 1] = 0.0
+            w_W[n, 2] = wz
+
+            # Morison drag on the relative velocity, split along the tangent
+            ux = w_U[n, 0] - v[n, 0]
+            uy = w_U[n, 1] - v[n, 1]
+            uz = w_U[n, 2] - v[n, 2]
+            uq = ux * qx + uy * qy + uz * qz
+            uqx = uq * qx
+            uqy = uq * qy
+            uqz = uq * qz
+            upx = ux - uqx
+            upy = uy - uqy
+            upz = uz - uqz
+            upm = math.sqrt(upx * upx + upy * upy + upz * upz)
+            cp = 0.5 * rho * Cd * d * lamw * upm
+            cq = 0.5 * rho * CdAx * math.pi * d * lamw * abs(uq)
+            # fluid inertia (Froude-Krylov + added mass of the fluid acceleration)
+            aq = w_Ud[n, 0] * qx + w_Ud[n, 1] * qy + w_Ud[n, 2] * qz
+            ip = rho * (1.0 + Ca) * vol
+            iq = rho * (1.0 + CaAx) * vol
+            hx = cp * upx + cq * uqx + ip * (w_Ud[n, 0] - aq * qx) + iq * aq * qx
+            hy = cp * upy + cq * uqy + ip * (w_Ud[n, 1] - aq * qy) + iq * aq * qy
+            hz = cp * upz + cq * uqz + ip * (w_Ud[n, 2] - aq * qz) + iq * aq * qz
+            w_Fhyd[n, 0] = hx
+            w_Fhyd[n, 1] = hy
+            w_Fhyd[n, 2] = hz
+
+            # seabed contact and friction
+            if flat:
+                zb = -E.depth
+                bnx = 0.0
+                bny = 0.0
+                bnz = 1.0
+            else:
+                zb, bnx, bny, bnz, outside = seabed_at(gx, gy, gz, E.depth, r[n, 0], r[n, 1])
+                if outside:
+                    ctl[2] += 1
+            if r[n, 2] < zb:
+                if stickslip:
+                    bx, by, bz = seabed_force_stickslip(E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1],
+                                                        r[n, 2], v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam)
+                else:
+                    bx, by, bz = seabed_force(E, zb, bnx, bny, bnz, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1],
+                                              v[n, 2], qx, qy, qz, d, lam)
+            else:
+                bx = 0.0
+                by = 0.0
+                bz = 0.0
+                if stick_commit:
+                    # off the seabed: the friction spring of the node is relaxed at its position
+                    anchor[n, 0] = r[n, 0]
+                    anchor[n, 1] = r[n, 1]
+                    anchor[n, 2] = r[n, 2]
+                    slip[n, 0] = 0.0
+                    slip[n, 1] = 0.0
+            w_Fbed[n, 0] = bx
+            w_Fbed[n, 1] = by
+            w_Fbed[n, 2] = bz
+
+            fx += hx + bx + Fbend[n, 0]
+            fy += hy + by + Fbend[n, 1]
+            fz += wz + hz + bz + Fbend[n, 2]
+            w_F[n, 0] = fx
+            w_F[n, 1] = fy
+            w_F[n, 2] = fz
+
+            ma = rho * vol * Ca
+            mq = rho * vol * CaAx
+            w_mass[n, 0] = m
+            w_mass[n, 1] = ma
+            w_mass[n, 2] = mq
+            if 0 < i < N:
+                # closed-form inverse of m I + ma (I - q q^T) + mq q q^T
+                fq = fx * qx + fy * qy + fz * qz
+                ip = 1.0 / (m + ma)
+                iq = 1.0 / (m + mq)
+                w_acc[n, 0] = (fx - fq * qx) * ip + fq * qx * iq
+                w_acc[n, 1] = (fy - fq * qy) * ip + fq * qy * iq
+                w_acc[n, 2] = (fz - fq * qz) * ip + fq * qz * iq
+            else:
+                w_acc[n, 0] = 0.0
+                w_acc[n, 1] = 0.0
+                w_acc[n, 2] = 0.0
 
 
-
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def end_tangent(L, W, li, j):
     """Direction a clamped end ``j`` (0: end A, 1: end B) of line ``li`` takes from its rod: the
     cable leaves the rod straight, so end A on rod end B and end B on rod end A follow the rod axis
@@ -324,7 +342,7 @@ def end_tangent(L, W, li, j):
     return sgn * W.rodq[r, 0], sgn * W.rodq[r, 1], sgn * W.rodq[r, 2]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _kappa(lam, ax, ay, az, bx, by, bz):
     """Curvature (4/lam) sin(theta/2) between unit vectors a and b over length lam, and the unit
     bending axis a x b (zero when a and b are parallel)."""
@@ -337,103 +355,112 @@ def _kappa(lam, ax, ay, az, bx, by, bz):
     return kap, px, py, pz
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def line_bending(li, L, W):
-    """Curvature at every node of line ``li`` and, for lines with bending stiffness, the bending
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def line_bending(L, W):
+    """Curvature at every node of every line and, for lines with bending stiffness, the bending
     forces: at each bent node a self-equilibrated triple of forces on the node and its two
     neighbours (spec 3.10); at an end clamped to a rod, the couple of the end segment against the
     rod axis. Needs the segment lengths and unit vectors of the current evaluation."""
-    n0 = L.node_ptr[li]
-    N = L.node_ptr[li + 1] - n0 - 1
-    s0 = L.seg_ptr[li]
+    node_ptr = L.node_ptr
+    seg_ptr = L.seg_ptr
+    EI = L.EI
+    ei_tab = L.ei_tab
+    clamped = L.clamped
+    tab_x = L.tab_x
+    tab_y = L.tab_y
     seg_e = W.seg_e
     seg_len = W.seg_len
     kurv = W.kurv
     Fb = W.Fbend
-    EIc = L.EI[li]
-    et0 = L.ei_tab[li, 0]
-    etn = L.ei_tab[li, 1]
-    stiff = EIc > 0.0 or etn > 0
-    for i in range(N + 1):
-        Fb[n0 + i, 0] = 0.0
-        Fb[n0 + i, 1] = 0.0
-        Fb[n0 + i, 2] = 0.0
-    for j in range(2):
-        for c in range(3):
-            W.end_moment[li, j, c] = 0.0
-    if not stiff:
-        # no bending forces: the curvature is only an output, computed on demand
-        # (moorline.coupling.LineView.node_curvatures), not in every evaluation
-        return
-    for i in range(N + 1):
-        kurv[n0 + i] = 0.0
-    for i in range(1, N):
-        a = s0 + i - 1
-        b = s0 + i
-        la = seg_len[a]
-        lb = seg_len[b]
-        kap, px, py, pz = _kappa(la + lb, seg_e[a, 0], seg_e[a, 1], seg_e[a, 2], seg_e[b, 0], seg_e[b, 1],
-                                 seg_e[b, 2])
-        n = n0 + i
-        kurv[n] = kap
-        if not stiff or kap == 0.0:
+    end_moment = W.end_moment
+    for li in range(node_ptr.size - 1):
+        n0 = node_ptr[li]
+        N = node_ptr[li + 1] - n0 - 1
+        s0 = seg_ptr[li]
+        EIc = EI[li]
+        et0 = ei_tab[li, 0]
+        etn = ei_tab[li, 1]
+        stiff = EIc > 0.0 or etn > 0
+        for i in range(N + 1):
+            Fb[n0 + i, 0] = 0.0
+            Fb[n0 + i, 1] = 0.0
+            Fb[n0 + i, 2] = 0.0
+        for j in range(2):
+            for c in range(3):
+                end_moment[li, j, c] = 0.0
+        if not stiff:
+            # no bending forces: the curvature is only an output, computed on demand
+            # (moorline.coupling.LineView.node_curvatures), not in every evaluation
             continue
-        m = kap * EIc if etn == 0 else table_interp(L.tab_x, L.tab_y, et0, etn, kap)
-        # f_{i-1} = (M / l_a) e_a x p,  f_{i+1} = (M / l_b) e_b x p,  f_i = -(f_{i-1} + f_{i+1})
-        ca = m / la
-        cb = m / lb
-        fax = ca * (seg_e[a, 1] * pz - seg_e[a, 2] * py)
-        fay = ca * (seg_e[a, 2] * px - seg_e[a, 0] * pz)
-        faz = ca * (seg_e[a, 0] * py - seg_e[a, 1] * px)
-        fbx = cb * (seg_e[b, 1] * pz - seg_e[b, 2] * py)
-        fby = cb * (seg_e[b, 2] * px - seg_e[b, 0] * pz)
-        fbz = cb * (seg_e[b, 0] * py - seg_e[b, 1] * px)
-        Fb[n - 1, 0] += fax
-        Fb[n - 1, 1] += fay
-        Fb[n - 1, 2] += faz
-        Fb[n + 1, 0] += fbx
-        Fb[n + 1, 1] += fby
-        Fb[n + 1, 2] += fbz
-        Fb[n, 0] -= fax + fbx
-        Fb[n, 1] -= fay + fby
-        Fb[n, 2] -= faz + fbz
-    # clamped ends: the rod axis acts as a segment reflected about the end node
-    for j in range(2):
-        if L.clamped[li, j] == 0:
-            continue
-        qx, qy, qz = end_tangent(L, W, li, j)
-        if j == 0:
-            s = s0
-            kap, px, py, pz = _kappa(seg_len[s], qx, qy, qz, seg_e[s, 0], seg_e[s, 1], seg_e[s, 2])
-            nend = n0
-            nin = n0 + 1
-            sgn = 1.0
-        else:
-            s = s0 + N - 1
-            kap, px, py, pz = _kappa(seg_len[s], seg_e[s, 0], seg_e[s, 1], seg_e[s, 2], qx, qy, qz)
-            nend = n0 + N
-            nin = n0 + N - 1
-            sgn = -1.0
-        kurv[nend] = kap
-        if not stiff or kap == 0.0:
-            continue
-        m = kap * EIc if etn == 0 else table_interp(L.tab_x, L.tab_y, et0, etn, kap)
-        cm = m / seg_len[s]
-        fx = cm * (seg_e[s, 1] * pz - seg_e[s, 2] * py)
-        fy = cm * (seg_e[s, 2] * px - seg_e[s, 0] * pz)
-        fz = cm * (seg_e[s, 0] * py - seg_e[s, 1] * px)
-        Fb[nin, 0] += fx
-        Fb[nin, 1] += fy
-        Fb[nin, 2] += fz
-        Fb[nend, 0] -= fx
-        Fb[nend, 1] -= fy
-        Fb[nend, 2] -= fz
-        W.end_moment[li, j, 0] = sgn * m * px
-        W.end_moment[li, j, 1] = sgn * m * py
-        W.end_moment[li, j, 2] = sgn * m * pz
+        for i in range(N + 1):
+            kurv[n0 + i] = 0.0
+        for i in range(1, N):
+            a = s0 + i - 1
+            b = s0 + i
+            la = seg_len[a]
+            lb = seg_len[b]
+            kap, px, py, pz = _kappa(la + lb, seg_e[a, 0], seg_e[a, 1], seg_e[a, 2], seg_e[b, 0], seg_e[b, 1],
+                                     seg_e[b, 2])
+            n = n0 + i
+            kurv[n] = kap
+            if not stiff or kap == 0.0:
+                continue
+            m = kap * EIc if etn == 0 else table_interp(tab_x, tab_y, et0, etn, kap)
+            # f_{i-1} = (M / l_a) e_a x p,  f_{i+1} = (M / l_b) e_b x p,  f_i = -(f_{i-1} + f_{i+1})
+            ca = m / la
+            cb = m / lb
+            fax = ca * (seg_e[a, 1] * pz - seg_e[a, 2] * py)
+            fay = ca * (seg_e[a, 2] * px - seg_e[a, 0] * pz)
+            faz = ca * (seg_e[a, 0] * py - seg_e[a, 1] * px)
+            fbx = cb * (seg_e[b, 1] * pz - seg_e[b, 2] * py)
+            fby = cb * (seg_e[b, 2] * px - seg_e[b, 0] * pz)
+            fbz = cb * (seg_e[b, 0] * py - seg_e[b, 1] * px)
+            Fb[n - 1, 0] += fax
+            Fb[n - 1, 1] += fay
+            Fb[n - 1, 2] += faz
+            Fb[n + 1, 0] += fbx
+            Fb[n + 1, 1] += fby
+            Fb[n + 1, 2] += fbz
+            Fb[n, 0] -= fax + fbx
+            Fb[n, 1] -= fay + fby
+            Fb[n, 2] -= faz + fbz
+        # clamped ends: the rod axis acts as a segment reflected about the end node
+        for j in range(2):
+            if clamped[li, j] == 0:
+                continue
+            qx, qy, qz = end_tangent(L, W, li, j)
+            if j == 0:
+                s = s0
+                kap, px, py, pz = _kappa(seg_len[s], qx, qy, qz, seg_e[s, 0], seg_e[s, 1], seg_e[s, 2])
+                nend = n0
+                nin = n0 + 1
+                sgn = 1.0
+            else:
+                s = s0 + N - 1
+                kap, px, py, pz = _kappa(seg_len[s], seg_e[s, 0], seg_e[s, 1], seg_e[s, 2], qx, qy, qz)
+                nend = n0 + N
+                nin = n0 + N - 1
+                sgn = -1.0
+            kurv[nend] = kap
+            if not stiff or kap == 0.0:
+                continue
+            m = kap * EIc if etn == 0 else table_interp(tab_x, tab_y, et0, etn, kap)
+            cm = m / seg_len[s]
+            fx = cm * (seg_e[s, 1] * pz - seg_e[s, 2] * py)
+            fy = cm * (seg_e[s, 2] * px - seg_e[s, 0] * pz)
+            fz = cm * (seg_e[s, 0] * py - seg_e[s, 1] * px)
+            Fb[nin, 0] += fx
+            Fb[nin, 1] += fy
+            Fb[nin, 2] += fz
+            Fb[nend, 0] -= fx
+            Fb[nend, 1] -= fy
+            Fb[nend, 2] -= fz
+            end_moment[li, j, 0] = sgn * m * px
+            end_moment[li, j, 1] = sgn * m * py
+            end_moment[li, j, 2] = sgn * m * pz
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def add_end_mass(M, p, m, ma, mq, q, n):
     """Add the mass matrix m I + ma (I - q q^T) + mq q q^T of a line end node (tangent ``q[n]``)
     to point ``p``."""
@@ -446,7 +473,7 @@ def add_end_mass(M, p, m, ma, mq, q, n):
             M[p, a, b] += val
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def solve3(M, p, f, out):
     """Solve the 3x3 system M[p] x = f[p] (Cramer's rule) into ``out[p]``; False if singular."""
     a = M[p, 0, 0]

@@ -26,7 +26,7 @@ from .rigid import (
 from .waterkin import WAVES_EXTERNAL, fluid_at, fluid_at_points
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def motion_piece(Mo, t):
     """Index of the trajectory piece holding time ``t`` (right-continuous at knots, clamped)."""
     tk = Mo.t
@@ -37,7 +37,7 @@ def motion_piece(Mo, t):
     return bracket(tk, 1, tk.size - 2, t)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def motion_eval(Mo, t, piece, x, v, a):
     """Evaluate the coupled trajectory ``Mo`` at time ``t`` into x, v, a, on trajectory piece
     ``piece`` (or, when negative, on the piece that holds ``t``). A time step never straddles a knot
@@ -55,7 +55,7 @@ def motion_eval(Mo, t, piece, x, v, a):
         a[j] = 2.0 * c2 + 6.0 * s * c3
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
 def set_kinematics(t, y, L, R, P, Mo, W, piece):
     """Bodies, rods, points and line nodes from the state ``y`` and the coupled trajectory at
     time ``t`` (spec 3.16, step 1)."""
@@ -131,7 +131,7 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
                     v[n, c] = rodv[k, e, c]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def set_water(t, K, W):
     """Water velocity and acceleration, surface elevation (and dynamic pressure at rod nodes) at
     every line node, rod node, point and body reference point at time ``t`` (spec 4). External
@@ -177,7 +177,7 @@ def set_water(t, K, W):
         off += m
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
 def point_loads(P, E, W, cd_scale):
     """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
     pU = W.pU
@@ -206,7 +206,7 @@ def point_loads(P, E, W, cd_scale):
             solve3(pM, p, pF, W.pa)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
@@ -257,8 +257,9 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
             for b in range(3):
                 pM[p, a, b] = 0.0
     nl = node_ptr.size - 1
+    line_forces(L, E, B, W, cd_scale)
+    end_moment = W.end_moment
     for li in range(nl):
-        line_forces(li, L, E, B, W, cd_scale)
         for j in range(2):
             n = node_ptr[li] if j == 0 else node_ptr[li + 1] - 1
             if end_kind[li, j] == ATT_POINT:
@@ -272,7 +273,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
                 for c in range(3):
                     rodF[k, e, c] += F[n, c]
                     # the bending moment of a clamped cable end acts on the rod (zero when pinned)
-                    rodMext[k, c] += W.end_moment[li, j, c]
+                    rodMext[k, c] += end_moment[li, j, c]
                 add_end_mass(rodEM, 2 * k + e, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
     point_loads(P, E, W, cd_scale)
 

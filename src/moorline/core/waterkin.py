@@ -127,6 +127,7 @@ class WaterKin(NamedTuple):
     c_ish: np.ndarray  # 1 / (1 - exp(-2 k h)) (0 where k = 0)
     c_ich: np.ndarray  # 1 / (1 + exp(-2 k h))
     c_e2h: np.ndarray  # exp(-2 k h)
+    c_work: np.ndarray  # (2, nc) scratch of the sum (kernels allocate nothing: they run without NRT)
     # wave grid (WAVES_GRID)
     wg_x: np.ndarray  # (nx,) [m]
     wg_y: np.ndarray  # (ny,) [m]
@@ -154,7 +155,7 @@ class WaterKin(NamedTuple):
 
 
 # ------------------------------------------------------------------------------- dispersion
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def wave_number(omega, g, h):
     """Wave number k >= 0 [rad/m] with omega^2 = g k tanh(k h), to machine precision.
 
@@ -188,7 +189,7 @@ def wave_number(omega, g, h):
     return sign * x / h
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def wave_number_newman(omega, g, h):
     """MoorDyn's wave number: J. N. Newman's high-order estimate and one quadratic Newton step
     (about 7 significant digits). Same arguments as :func:`wave_number`."""
@@ -221,7 +222,7 @@ def wave_numbers(omega, g: float, h: float, method: str = "exact") -> np.ndarray
 
 
 # --------------------------------------------------------------------------- small kernels
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _cell(a, v):
     """(i0, i1, f) for linear interpolation in the increasing axis ``a`` at ``v``, clamped."""
     n = a.size
@@ -233,7 +234,7 @@ def _cell(a, v):
     return i, i + 1, (v - a[i]) / (a[i + 1] - a[i])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _time_cell(t, dt, nt, wrap):
     """(i0, i1, f) of a record of nt samples spaced dt from t = 0 (spec 4.7).
 
@@ -262,7 +263,7 @@ def _time_cell(t, dt, nt, wrap):
     return i0, (i0 + 1) % nt, f
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _ramp(t, tr):
     """Ramp factor r(t) = (1 - cos(pi t / tr)) / 2 on [0, tr] and its derivative [1/s]."""
     if tr <= 0.0 or t >= tr:
@@ -273,7 +274,7 @@ def _ramp(t, tr):
     return 0.5 * (1.0 - math.cos(a * t)), 0.5 * a * math.sin(a * t)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _stretched(z, zeta, zb, h, stretch):
     """Height z' [m] at which the Airy fields are evaluated for a point at height z with the
     local seabed at zb and the surface at zeta (Wheeler), or min(z, 0) without stretching."""
@@ -293,7 +294,7 @@ def _stretched(z, zeta, zb, h, stretch):
 # workers take plain arrays and scalars.
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _waves_sum(t, x, y, z, zb, h, stretch, ramp, pdyn, rhog, omega, are, aim, cosb, sinb, kk, ish, ich, e2h, o, work):
     """Sum of the components at one point into o[0:8] (overwrites); ``work`` (2, nc) scratch.
 
@@ -358,7 +359,7 @@ def _waves_sum(t, x, y, z, zb, h, stretch, ramp, pdyn, rhog, omega, are, aim, co
     o[7] = r * rhog * p
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _waves_grid(t, x, y, z, zb, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, o):
     """Interpolation in the wave grid at one point into o[0:8] (overwrites)."""
     nt = gzeta.shape[2]
@@ -403,7 +404,7 @@ def _waves_grid(t, x, y, z, zb, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, g
     o[7] = r * p
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _add_current_grid(t, x, y, z, cx, cy, cz, dt, wrap, dudt, vel, o):
     """Add the gridded current velocity (and acceleration) at one point to o[0:6]."""
     nt = vel.shape[3]
@@ -442,7 +443,7 @@ def _add_current_grid(t, x, y, z, cx, cy, cz, dt, wrap, dudt, vel, o):
         o[5] += (v1z - v0z) / dt
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _seabed_z(sb_x, sb_y, sb_z, h, x, y):
     """Local seabed height [m] for stretching: the grid's, or -h without one."""
     if sb_x.size == 0:
@@ -451,36 +452,30 @@ def _seabed_z(sb_x, sb_y, sb_z, h, x, y):
 
 
 # ----------------------------------------------------------------------- loops over points
-@njit(cache=True, error_model="numpy")
-def _sum_rows(t, r, zb, h, stretch, ramp, pdyn, rhog, omega, are, aim, cosb, sinb, kk, ish, ich, e2h, out):
-    work = np.empty((2, omega.size))
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _sum_rows(t, r, sb_x, sb_y, sb_z, h, stretch, ramp, pdyn, rhog, omega, are, aim, cosb, sinb, kk, ish, ich, e2h,
+              out, work):
     for i in range(r.shape[0]):
-        _waves_sum(t, r[i, 0], r[i, 1], r[i, 2], zb[i], h, stretch, ramp, pdyn, rhog, omega, are, aim, cosb, sinb,
+        zb = _seabed_z(sb_x, sb_y, sb_z, h, r[i, 0], r[i, 1])
+        _waves_sum(t, r[i, 0], r[i, 1], r[i, 2], zb, h, stretch, ramp, pdyn, rhog, omega, are, aim, cosb, sinb,
                    kk, ish, ich, e2h, out[i], work)
 
 
-@njit(cache=True, error_model="numpy")
-def _grid_rows(t, r, zb, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, out):
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _grid_rows(t, r, sb_x, sb_y, sb_z, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, out):
     for i in range(r.shape[0]):
-        _waves_grid(t, r[i, 0], r[i, 1], r[i, 2], zb[i], h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, out[i])
+        zb = _seabed_z(sb_x, sb_y, sb_z, h, r[i, 0], r[i, 1])
+        _waves_grid(t, r[i, 0], r[i, 1], r[i, 2], zb, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, out[i])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _current_rows(t, r, cx, cy, cz, dt, wrap, dudt, vel, out):
     for i in range(r.shape[0]):
         _add_current_grid(t, r[i, 0], r[i, 1], r[i, 2], cx, cy, cz, dt, wrap, dudt, vel, out[i])
 
 
-@njit(cache=True, error_model="numpy")
-def _seabed_rows(sb_x, sb_y, sb_z, h, r):
-    zb = np.empty(r.shape[0])
-    for i in range(r.shape[0]):
-        zb[i] = _seabed_z(sb_x, sb_y, sb_z, h, r[i, 0], r[i, 1])
-    return zb
-
-
 # --------------------------------------------------------------------------- public kernels
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def fluid_at(t, x, y, z, K, out):
     """Water kinematics at one point.
 
@@ -507,7 +502,7 @@ def fluid_at(t, x, y, z, K, out):
         zb = _seabed_z(K.sb_x, K.sb_y, K.sb_z, K.depth, x, y)
         if wm == WAVES_SUM:
             _waves_sum(t, x, y, z, zb, K.depth, K.stretch, K.ramp, K.pdyn, K.rho * K.g, K.c_omega, K.c_are, K.c_aim,
-                       K.c_cosb, K.c_sinb, K.c_k, K.c_ish, K.c_ich, K.c_e2h, out, np.empty((2, K.c_omega.size)))
+                       K.c_cosb, K.c_sinb, K.c_k, K.c_ish, K.c_ich, K.c_e2h, out, K.c_work)
         else:
             _waves_grid(t, x, y, z, zb, K.depth, K.stretch, K.ramp, K.wg_x, K.wg_y, K.wg_z, K.wg_dt, K.wg_wrap,
                         K.wg_zeta, K.wg_kin, out)
@@ -521,7 +516,7 @@ def fluid_at(t, x, y, z, K, out):
         _add_current_grid(t, x, y, z, K.cg_x, K.cg_y, K.cg_z, K.cg_dt, K.cg_wrap, K.cg_dudt, K.cg_vel, out)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def fluid_at_points(t, r, K, out):
     """Water kinematics at n points (nodes): one call per derivative evaluation.
 
@@ -543,13 +538,12 @@ def fluid_at_points(t, r, K, out):
     wm = K.wave_mode
     h = K.depth
     if wm == WAVES_SUM or wm == WAVES_GRID:
-        zb = _seabed_rows(K.sb_x, K.sb_y, K.sb_z, h, r)
         if wm == WAVES_SUM:
-            _sum_rows(t, r, zb, h, K.stretch, K.ramp, K.pdyn, K.rho * K.g, K.c_omega, K.c_are, K.c_aim, K.c_cosb,
-                      K.c_sinb, K.c_k, K.c_ish, K.c_ich, K.c_e2h, out)
+            _sum_rows(t, r, K.sb_x, K.sb_y, K.sb_z, h, K.stretch, K.ramp, K.pdyn, K.rho * K.g, K.c_omega, K.c_are,
+                      K.c_aim, K.c_cosb, K.c_sinb, K.c_k, K.c_ish, K.c_ich, K.c_e2h, out, K.c_work)
         else:
-            _grid_rows(t, r, zb, h, K.stretch, K.ramp, K.wg_x, K.wg_y, K.wg_z, K.wg_dt, K.wg_wrap, K.wg_zeta,
-                       K.wg_kin, out)
+            _grid_rows(t, r, K.sb_x, K.sb_y, K.sb_z, h, K.stretch, K.ramp, K.wg_x, K.wg_y, K.wg_z, K.wg_dt,
+                       K.wg_wrap, K.wg_zeta, K.wg_kin, out)
     else:
         for i in range(n):
             for j in range(N_OUT):
@@ -602,7 +596,7 @@ def still_water(depth: float, g: float, rho: float = 1025.0) -> WaterKin:
         wave_mode=WAVES_NONE, current_mode=CURRENT_NONE, g=float(g), rho=float(rho), depth=float(depth),
         stretch=STRETCH_WHEELER, pdyn=1, ramp=0.0,
         c_omega=_empty(0), c_are=_empty(0), c_aim=_empty(0), c_heading=_empty(0), c_cosb=_empty(0),
-        c_sinb=_empty(0), c_k=_empty(0), c_ish=_empty(0), c_ich=_empty(0), c_e2h=_empty(0),
+        c_sinb=_empty(0), c_k=_empty(0), c_ish=_empty(0), c_ich=_empty(0), c_e2h=_empty(0), c_work=_empty(2, 0),
         wg_x=_empty(0), wg_y=_empty(0), wg_z=_empty(0), wg_dt=1.0, wg_wrap=WRAP_PERIODIC,
         wg_zeta=_empty(0, 0, 0), wg_kin=_empty(0, 0, 0, 0, N_GRID_FIELDS),
         cu_u=_empty(3), cg_x=_empty(0), cg_y=_empty(0), cg_z=_empty(0), cg_dt=1.0, cg_wrap=WRAP_PERIODIC,
@@ -868,7 +862,7 @@ def build_water_kinematics(waves: Waves | None, current: Current | None, *, dept
                 K.update(wave_mode=WAVES_SUM, c_omega=np.ascontiguousarray(waves.omega[keep]),
                          c_are=np.ascontiguousarray(a.real), c_aim=np.ascontiguousarray(a.imag),
                          c_heading=beta, c_cosb=np.cos(beta), c_sinb=np.sin(beta), c_k=kk, c_ish=ish, c_ich=ich,
-                         c_e2h=np.exp(-2.0 * kk * depth))
+                         c_e2h=np.exp(-2.0 * kk * depth), c_work=np.zeros((2, kk.size)))
             else:
                 x, y, z, dt, wrap, zeta, kin = _build_wave_grid(waves, k, depth=depth, g=g, rho=rho, bbox=box,
                                                                 max_bytes=max_grid_bytes)
