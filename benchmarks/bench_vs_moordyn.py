@@ -65,12 +65,28 @@ def sine_motion(X0, amplitude, period, direction, ramp):
 
 
 def cases():
-    """name -> (deck path, motion factory X0 -> X(t), duration [s], outer dt [s])"""
-    ex = ROOT / "examples" / "catenary_3line" / "catenary_3line.dat"
-    out = {"example_3line_chain": (ex, lambda X0: sine_motion(X0, 6.0, 20.0, (1, 0, 0), 10.0), 60.0, 0.1)}
+    """name -> (deck path, motion factory X0 -> X(t), duration [s], outer dt [s]).
+
+    The four cases of the speed issue come first: the OC3 3-line chain catenary (63 nodes), a
+    semi-taut chain-polyester system in 600 m (147 nodes), a lazy-wave cable with bending stiffness
+    and buoyancy on zero-length rods (140 nodes) and a farm of 20 OC3 moorings (3060 nodes); then
+    other systems (the README example, a bridle with clump weight and buoy, a pendulum in RK4)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from make_farm import write_farm
+
+    decks = ROOT / "benchmarks" / "decks"
+    out = {}
+    surge = lambda X0: sine_motion(X0, 5.0, 20.0, (1, 0, 0), 20.0)  # noqa: E731
     if CONF.exists():
-        out["catenary_3line_surge"] = (CONF / "inputs/catenary_3line/lines.txt",
-                                       lambda X0: sine_motion(X0, 5.0, 20.0, (1, 0, 0), 20.0), 120.0, 0.1)
+        out["catenary_3line_surge"] = (CONF / "inputs/catenary_3line/lines.txt", surge, 120.0, 0.1)
+    out["semitaut_chain_polyester_surge"] = (decks / "semitaut_chain_polyester.dat", surge, 60.0, 0.1)
+    out["lazy_wave_cable_heave"] = (decks / "lazy_wave_cable.dat",
+                                    lambda X0: sine_motion(X0, 2.0, 8.0, (0, 0, 1), 8.0), 30.0, 0.1)
+    farm_dir = Path(tempfile.mkdtemp(prefix="moorline_farm_"))
+    out["farm_20x3_lines"] = (write_farm(farm_dir / "farm.dat"), surge, 20.0, 0.1)
+    ex = ROOT / "examples" / "catenary_3line" / "catenary_3line.dat"
+    out["example_3line_chain"] = (ex, lambda X0: sine_motion(X0, 6.0, 20.0, (1, 0, 0), 10.0), 60.0, 0.1)
+    if CONF.exists():
         out["bridle_clump_buoy_surge"] = (CONF / "inputs/bridle_clump_buoy/bridle_clump_buoy.txt",
                                           lambda X0: sine_motion(X0, 8.0, 25.0, (1, 0.25, 0), 25.0), 150.0, 0.1)
         out["pendulum_point_mass_RK4"] = (CONF / "inputs/pendulum/pendulum.txt", None, 100.0, 0.1)
