@@ -128,11 +128,11 @@ def run_moordyn(deck: Path, motion, duration, dt):
     return wall, nodes, np.asarray(f)
 
 
-def run_moorline(deck: Path, motion, duration, dt, mode):
+def run_moorline(deck: Path, motion, duration, dt, mode, scheme=None, dtM=None):
     from moorline import System
     from moorline.motion import Trajectory
 
-    s = System.from_file(deck)
+    s = System.from_file(deck, scheme=scheme, dtM=dtM)
     X0 = s.deck_coupled_positions()
     X = motion(X0) if motion else (lambda t: X0)
     s.init(X(0.0), np.zeros(s.n_coupled_dof))
