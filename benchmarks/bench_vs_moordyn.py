@@ -154,10 +154,38 @@ def run_moorline(deck: Path, motion, duration, dt, mode, scheme=None, dtM=None):
     return wall, nodes, f, s
 
 
+_FIRST_CALL = """
+import time, sys
+import numpy as np
+t0 = time.perf_counter()
+from moorline import System
+s = System.from_file(sys.argv[1], scheme=sys.argv[2])
+s.init(solve_ic=False)
+s.step(s.deck_coupled_positions(), np.zeros(s.n_coupled_dof), 0.0, 0.01)
+print(time.perf_counter() - t0)
+"""
+
+
+def compile_times(deck: Path, scheme: str) -> tuple[float, float]:
+    """Wall time of a fresh process's first moorline call (import, read, one step) with an empty
+    numba cache (everything compiled) and then with that cache filled (loaded from disk)."""
+    import subprocess
+
+    with tempfile.TemporaryDirectory(prefix="moorline_numba_cache_") as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        times = []
+        for _ in range(2):
+            out = subprocess.run([sys.executable, "-c", _FIRST_CALL, str(deck), scheme], env=env, check=True,
+                                 capture_output=True, text=True)
+            times.append(float(out.stdout.strip().splitlines()[-1]))
+    return times[0], times[1]
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--cases", help="comma-separated subset")
+    ap.add_argument("--no-compile-times", action="store_true", help="skip the cold/cached first-call measurement")
     a = ap.parse_args(argv)
     all_cases = cases()
     names = a.cases.split(",") if a.cases else list(all_cases)
@@ -168,8 +196,14 @@ def main(argv=None) -> int:
         have_md = False
         print("moordyn is not installed: moorline timings only")
 
-    # first call compiles (or loads the cache): timed once, apart
+    # first call compiles (or loads the cache): timed apart, in fresh processes
     from moorline import System
+
+    if not a.no_compile_times:
+        for scheme in ("RK2", "GenAlpha"):
+            cold, cached = compile_times(all_cases[names[0]][0], scheme)
+            print(f"first call in a new process, {scheme}: {cold:.1f} s compiling (empty cache), {cached:.2f} s "
+                  "with the cache")
 
     t0 = time.perf_counter()
     s = System.from_file(all_cases[names[0]][0])
