@@ -48,10 +48,10 @@ BUOY = {"d": 0.35, "w": 60.0, "EI": 4.0e3, "Ca": 1.0}
 SECTIONS = [("cable", 62.0, 16), ("buoy", 30.0, 10), ("cable", 80.0, 16)]  # (type, length, segments)
 
 
-def lazy_wave() -> System:
-    """The cable at its static equilibrium (dynamic relaxation, converged)."""
+def lazy_wave_model(**options) -> Model:
+    """The deck (RK4 at 4 ms, initial conditions by dynamic relaxation unless ``options`` say otherwise)."""
     m = Model(env=Environment(g=G, rho=RHO, depth=DEPTH),
-              options=Options(tScheme="RK4", dtM=0.004, TmaxIC=200.0, ICgenDynamic=1))
+              options=Options(**({"tScheme": "RK4", "dtM": 0.004, "TmaxIC": 200.0, "ICgenDynamic": 1} | options)))
     for name, p in (("cable", CABLE), ("buoy", BUOY)):
         m.add_line_type(name, d=p["d"], w=p["w"], EA=2.0e7, BA=-0.5, EI=p["EI"], Cd=1.2, Ca=p["Ca"], CdAx=0.01)
     m.add_rod_type("base", d=0.3, w=50.0)
@@ -63,7 +63,12 @@ def lazy_wave() -> System:
     ends = [(base, j1a), (j1b, j2a), (j2b, top)]
     for (lt, L, N), (a, b) in zip(SECTIONS, ends, strict=True):
         m.add_line(lt, a, b, L=L, N=N)
-    s = System(m)
+    return m
+
+
+def lazy_wave() -> System:
+    """The cable at its static equilibrium (dynamic relaxation, converged)."""
+    s = System(lazy_wave_model())
     s.init()
     assert s.ic_report["converged"], s.ic_report
     return s

@@ -12,17 +12,32 @@ reverse Cuthill-McKee so the Jacobian is banded; it is factored by banded LU wit
 in O(n kl (kl + ku)). Everything is O(nodes) per iteration.
 
 Generalized-alpha (Chung & Hulbert 1993) on ``a = f(t, x, v)`` (``f``: the system's accelerations,
-the node mass matrices already inverted by ``rhs``)::
+the node mass matrices already inverted by ``rhs``), in the form that weights the derivatives at
+the two ends of the step rather than evaluating one derivative at a weighted state (Arnold & Bruls
+2007; the HHT form of Abaqus)::
 
     x1 = x0 + h v0 + h^2 ((1/2 - beta) a0 + beta a1)        v1 = v0 + h ((1 - gamma) a0 + gamma a1)
-    (1 - alpha_m) a1 + alpha_m a0 = f(t0 + (1 - alpha_f) h, (1 - alpha_f) x1 + alpha_f x0, ...)
+    (1 - alpha_m) a1 + alpha_m a0 = (1 - alpha_f) f(t0 + h, x1, v1) + alpha_f f0
 
-with alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1), gamma = 1/2 - alpha_m + alpha_f,
+with f0 = f(t0, x0, v0) (carried over from the previous step as the value its equation implies),
+alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1), gamma = 1/2 - alpha_m + alpha_f,
 beta = (1 - alpha_m + alpha_f)^2 / 4: second-order accurate and unconditionally stable for linear
 systems, with spectral radius ``rho`` (``rho_inf``) at infinite frequency (1: no numerical
-damping; 0: the highest modes are annihilated in one step). Orientations of 6-DOF blocks advance
-through the rotation vector: q1 = exp(theta) q0 with theta the Newmark increment of the global
-angular velocity.
+damping; 0: the highest modes are annihilated in one step); ``a`` is an algorithmic acceleration
+(second-order close to the true one at t + (alpha_m - alpha_f) h). Orientations of 6-DOF blocks
+advance through the rotation vector: q1 = exp(theta) q0 with theta the Newmark increment of the
+global angular velocity.
+
+Why the derivatives and not the state are weighted: lines are axially stiff (a 5 m segment of a
+cable with EA 2e7 N stretches 1 mm per 4 kN), so the tension is set by millimetre differences
+between node positions. Evaluated at the weighted state (1 - alpha_f) x1 + alpha_f x0 and the
+time t0 + (1 - alpha_f) h, the coupled end sits at X(t0 + (1 - alpha_f) h) while the line nodes
+sit on the chord between their end-of-step positions, which is off the trajectory by
+alpha_f (1 - alpha_f) h^2 X''/2; a segment turning at a rate w is shortened the same way by
+alpha_f (1 - alpha_f) (w h)^2 l/2. The stiff segments follow these spurious stretches, and at the
+end of the step the tension is off by about EA/l alpha_f h^2 X''/(2 (1 + rho)) (a lazy-wave cable in
+2 m, 8 s heave: 50 % of the fairlead tension at h = 0.1 s). With both derivatives evaluated at
+states the scheme actually reaches, the stiff (quasi-static) response is exact at every step end.
 
 Newton iterations reuse the factored Jacobian across steps while they converge quickly (modified
 Newton) and rebuild it when convergence slows, the step size changes or an iteration fails; a step
@@ -46,7 +61,7 @@ from .rhs import motion_piece, rhs
 # indices into ImplicitWork.stat
 S_H = 0  # current step size [s]
 S_HJ = 1  # step size the factored Jacobian belongs to (0: none)
-S_AVALID = 2  # 1 once a0 holds the algorithmic acceleration of the current state
+S_AVALID = 2  # 1 once a0 and fs hold the algorithmic acceleration and the derivative of the current state
 S_NRHS = 3  # derivative evaluations (counter)
 S_NJAC = 4  # Jacobians built (counter)
 S_NIT = 5  # Newton iterations (counter)
@@ -82,7 +97,8 @@ class ImplicitWork(NamedTuple):
     da: np.ndarray  # (n_dof,) Newton increment (banded order while solving)
     eps: np.ndarray  # (n_dof,) finite-difference perturbations
     y0: np.ndarray  # (n_state,) state at the start of the step
-    ya: np.ndarray  # (n_state,) state at the generalized midpoint
+    fs: np.ndarray  # (n_dof,) derivative (accelerations) at the start of the step
+    ck: np.ndarray  # (3, n_coupled_dof) coupled positions, velocities, accelerations fs was evaluated with
     f0: np.ndarray  # (n_state,) derivative at the iterate
     f1: np.ndarray  # (n_state,) derivative at a perturbed iterate
     AB: np.ndarray  # (2 kl + ku + 1, n_dof) banded LU factors
@@ -261,8 +277,9 @@ def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> Implicit
     z = np.zeros
     stat = z(N_STAT)
     stat[S_H] = dtM
-    return ImplicitWork(z(ndof), z(ndof), z(ndof), z(ndof), z(ndof), z(n), z(n), z(n), z(n),
-                        z((2 * kl + ku + 1, max(ndof, 1))), np.zeros(max(ndof, 1), dtype=np.int64), stat)
+    return ImplicitWork(z(ndof), z(ndof), z(ndof), z(ndof), z(ndof), z(n), z(ndof), z((3, layout.n_coupled_dof)),
+                        z(n), z(n), z((2 * kl + ku + 1, max(ndof, 1))), np.zeros(max(ndof, 1), dtype=np.int64),
+                        stat)
 
 
 # ---------------------------------------------------------------------------------------------- banded LU
@@ -367,10 +384,8 @@ def displace(y0, dq, y, n3, n6, cq):
 
 
 @njit(cache=True, error_model="numpy")
-def _newmark(y0, a0, a1, h, par, y1, ya, n3, n6, G):
-    """End-of-step state ``y1`` from (y0, a0, a1) and the generalized-midpoint state ``ya``;
-    ``G`` is scratch for the position increments."""
-    af = par[1]
+def _newmark(y0, a0, a1, h, par, y1, n3, n6, G):
+    """End-of-step state ``y1`` from (y0, a0, a1); ``G`` is scratch for the position increments."""
     beta = par[2]
     gamma = par[3]
     uoff = 3 * n3 + 7 * n6
@@ -379,38 +394,30 @@ def _newmark(y0, a0, a1, h, par, y1, ya, n3, n6, G):
         G[i] = h * y0[uoff + i] + h * h * ((0.5 - beta) * a0[i] + beta * a1[i])
         y1[uoff + i] = y0[uoff + i] + h * ((1.0 - gamma) * a0[i] + gamma * a1[i])
     displace(y0, G, y1, n3, n6, 1.0)
-    for i in range(y0.size):
-        ya[i] = (1.0 - af) * y1[i] + af * y0[i]
-    for j in range(n6):
-        o = 3 * n3 + 7 * j + 3
-        s = 0.0
-        for c in range(4):
-            s += ya[o + c] * ya[o + c]
-        s = 1.0 / math.sqrt(s)
-        for c in range(4):
-            ya[o + c] *= s
 
 
 @njit(cache=True, error_model="numpy")
 def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
-    """G = (1 - alpha_m) a1 + alpha_m a0 - f(midpoint); leaves y at the end-of-step state."""
+    """G = (1 - alpha_m) a1 + alpha_m a0 - (1 - alpha_f) f(t + h, x1, v1) - alpha_f fs; leaves y
+    at the end-of-step state and its derivative in IW.f0."""
     par = A.par
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
-    _newmark(IW.y0, IW.a0, IW.a1, h, par, y, IW.ya, n3, n6, IW.G)
-    rhs(t + (1.0 - par[1]) * h, IW.ya, IW.f0, L, R, P, E, B, Mo, W, par[8], piece)
+    _newmark(IW.y0, IW.a0, IW.a1, h, par, y, n3, n6, IW.G)
+    rhs(t + h, y, IW.f0, L, R, P, E, B, Mo, W, par[8], piece)
     IW.stat[S_NRHS] += 1
     am = par[0]
+    af = par[1]
     G = IW.G
     for i in range(G.size):
-        G[i] = (1.0 - am) * IW.a1[i] + am * IW.a0[i] - IW.f0[uoff + i]
+        G[i] = (1.0 - am) * IW.a1[i] + am * IW.a0[i] - (1.0 - af) * IW.f0[uoff + i] - af * IW.fs[i]
 
 
 @njit(cache=True, error_model="numpy")
-def _assemble(A, IW, f0, f1, uoff, cu, k, diag, eps):
+def _assemble(A, IW, f0, f1, uoff, cu, k, diag, scale, eps):
     """Columns of colour (cu, component k) from the derivative difference f1 - f0:
-    J[i, j] = diag [i == j] - (f1_i - f0_i) / eps_j, into the band storage."""
+    J[i, j] = diag [i == j] - scale (f1_i - f0_i) / eps_j, into the band storage."""
     kl = A.band[0]
     ku = A.band[1]
     kv = kl + ku
@@ -422,7 +429,7 @@ def _assemble(A, IW, f0, f1, uoff, cu, k, diag, eps):
             continue
         col = A.udof[uj] + k
         pc = pinv[col]
-        inv = 1.0 / eps[col]
+        inv = scale / eps[col]
         for p in range(A.adj_ptr[uj], A.adj_ptr[uj + 1]):
             ui = A.adj_idx[p]
             d0 = A.udof[ui]
@@ -472,10 +479,9 @@ def _step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     uoff = 3 * n3 + 7 * n6
     af = par[1]
     beta = par[2]
-    cx = beta * h * h * (1.0 - af)
     nd = IW.a1.size
     # position perturbation ~ 1e-8 of the coordinate (at least 1e-8 m or rad)
-    _fd_steps(IW, n3, n6, 1e-8, cx)
+    _fd_steps(IW, n3, n6, 1e-8, beta * h * h)
     IW.AB[:, :] = 0.0
     f1 = IW.f1
     nc = A.col_ptr.size - 1
@@ -485,11 +491,11 @@ def _step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
         for k in range(kmax):
             if not _shift_colour(A, cu, k, IW.a1, IW.eps, 1.0):
                 continue
-            _newmark(IW.y0, IW.a0, IW.a1, h, par, y, IW.ya, n3, n6, scratch)
-            rhs(t + (1.0 - af) * h, IW.ya, f1, L, R, P, E, B, Mo, W, par[8], piece)
+            _newmark(IW.y0, IW.a0, IW.a1, h, par, y, n3, n6, scratch)
+            rhs(t + h, y, f1, L, R, P, E, B, Mo, W, par[8], piece)
             IW.stat[S_NRHS] += 1
             _shift_colour(A, cu, k, IW.a1, IW.eps, -1.0)
-            _assemble(A, IW, IW.f0, f1, uoff, cu, k, 1.0 - par[0], IW.eps)
+            _assemble(A, IW, IW.f0, f1, uoff, cu, k, 1.0 - par[0], 1.0 - af, IW.eps)
     IW.stat[S_NJAC] += 1
     IW.stat[S_HJ] = h
     return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
@@ -520,6 +526,49 @@ def _norm2(v):
 
 
 @njit(cache=True, error_model="numpy")
+def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit):
+    """fs = f(t, y) (the U part), with the stick-slip anchors committed when ``commit``; remembers
+    the coupled kinematics it was evaluated with."""
+    uoff = 3 * R.dims[0] + 7 * R.dims[1]
+    if commit:
+        B.ctl[1] = 1
+    rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, A.par[8], piece)
+    B.ctl[1] = 0
+    IW.stat[S_NRHS] += 1
+    for i in range(IW.fs.size):
+        IW.fs[i] = IW.f1[uoff + i]
+    for j in range(W.xc.size):
+        IW.ck[0, j] = W.xc[j]
+        IW.ck[1, j] = W.vc[j]
+        IW.ck[2, j] = W.ac[j]
+
+
+@njit(cache=True, error_model="numpy")
+def _coupled_moved(IW, Mo, t, piece):
+    """True when the coupled trajectory at ``t`` on ``piece`` is not where fs was evaluated (a
+    knot with a velocity or acceleration jump, a new trajectory from the coupling)."""
+    ck = IW.ck
+    n = ck.shape[1]
+    if n == 0:
+        return False
+    k = piece if piece >= 0 else motion_piece(Mo, t)
+    s = t - Mo.t[k]
+    cc = Mo.c
+    for j in range(n):
+        c0 = cc[k, j, 0]
+        c1 = cc[k, j, 1]
+        c2 = cc[k, j, 2]
+        c3 = cc[k, j, 3]
+        x = c0 + s * (c1 + s * (c2 + s * c3))
+        v = c1 + s * (2.0 * c2 + 3.0 * s * c3)
+        a = 2.0 * c2 + 6.0 * s * c3
+        if abs(x - ck[0, j]) > 1e-12 * (1.0 + abs(x)) or abs(v - ck[1, j]) > 1e-9 * (1.0 + abs(v)) or \
+                abs(a - ck[2, j]) > 1e-9 * (1.0 + abs(a)):
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
 def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     """One generalized-alpha step of length ``h`` in place. Returns 0 on convergence, 1 when the
     Newton iterations did not converge (``y`` then restored to the start of the step)."""
@@ -534,11 +583,11 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     for i in range(n):
         IW.y0[i] = y[i]
     if B.ctl[0] == 1:
-        # stick-slip friction anchors are committed at the state at the start of the step
-        B.ctl[1] = 1
-        rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, 1.0, piece)
-        B.ctl[1] = 0
-        IW.stat[S_NRHS] += 1
+        # stick-slip friction anchors are committed at the state at the start of the step (which
+        # moves the friction forces: the derivative there is evaluated again)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, True)
+    elif _coupled_moved(IW, Mo, t, piece):
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, False)
     for i in range(nd):
         IW.a1[i] = IW.a0[i]
     hj = IW.stat[S_HJ]
@@ -584,9 +633,18 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
             if d > big:
                 big = d
         if big * beta * h * h <= atol_x and big * gamma * h <= atol_v:
-            _newmark(IW.y0, IW.a0, IW.a1, h, par, y, IW.ya, R.dims[0], R.dims[1], IW.G)
+            _newmark(IW.y0, IW.a0, IW.a1, h, par, y, R.dims[0], R.dims[1], IW.G)
+            # the derivative at the end of the step as the scheme's equation gives it (the last
+            # evaluation was one increment earlier); af <= 1/2
+            am = par[0]
+            af = par[1]
             for i in range(nd):
+                IW.fs[i] = ((1.0 - am) * IW.a1[i] + am * IW.a0[i] - af * IW.fs[i]) / (1.0 - af)
                 IW.a0[i] = IW.a1[i]
+            for j in range(W.xc.size):
+                IW.ck[0, j] = W.xc[j]
+                IW.ck[1, j] = W.vc[j]
+                IW.ck[2, j] = W.ac[j]
             if it <= 4:
                 IW.stat[S_EASY] += 1
             else:
@@ -633,14 +691,12 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
     piece : int
         Trajectory piece of the last step (-1 if none).
     """
-    uoff = 3 * R.dims[0] + 7 * R.dims[1]
     nd = IW.a0.size
     stat = IW.stat
     if stat[S_AVALID] == 0.0:
-        rhs(t, y, IW.f0, L, R, P, E, B, Mo, W, A.par[8], -1)
-        stat[S_NRHS] += 1
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, -1, False)
         for i in range(nd):
-            IW.a0[i] = IW.f0[uoff + i]
+            IW.a0[i] = IW.fs[i]
         stat[S_AVALID] = 1.0
     tol = 1e-9 * dtM
     hmin = dtM / 4096.0
@@ -697,7 +753,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
             displace(IW.y0, dq, y, n3, n6, 1.0)
             rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, 1.0, -1)
             IW.stat[S_NRHS] += 1
-            _assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, IW.eps)
+            _assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
     IW.stat[S_NJAC] += 1
     for i in range(y.size):
         y[i] = IW.y0[i]
