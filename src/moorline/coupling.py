@@ -25,10 +25,13 @@ from .core.implicit import (
     S_AVALID,
     S_H,
     S_HJ,
+    S_NBACK,
+    S_NFAC,
     S_NIT,
     S_NJAC,
     S_NREJ,
     S_NRHS,
+    S_NSLOW,
     S_NSTEP,
     advance_implicit,
     build_implicit,
@@ -369,26 +372,39 @@ class BodyView(_ObjectView):
 
 #: the implicit scheme ramps the seabed damping in over this many static penetrations
 BED_RAMP_FACTOR = 10.0
+#: and the seabed spring stiffness over this many
+BED_BLEND_FACTOR = 1.0
 
 
-def bed_damping_ramp(layout) -> float:
-    """Penetration [m] over which the implicit scheme ramps the seabed contact damping in:
-    BED_RAMP_FACTOR times the static penetration of the heaviest line under its own submerged
-    weight, (w - rho A) g / (kBot d), at least 1 mm. MoorDyn's contact force jumps by cBot v_n d l
-    when a node lands: the residual then has no root for Newton's method (it cycles between
-    contact and no contact). With the ramp the force is continuous; over one static penetration
-    Newton still needs many iterations and step cuts at landings (42 cut steps in 100 s of the OC3
-    chain at 0.1 s), over ten it needs none (1-2), and the fairlead tension moves by 0.1 % of
-    its mean (RMS against RK4 with MoorDyn's contact, 5.2e-3 against 4.3e-3)."""
+def static_penetration(layout) -> float:
+    """Static seabed penetration [m] of the heaviest line under its own submerged weight,
+    (w - rho A) g / (kBot d) (0 without seabed stiffness or sinking lines)."""
     L, E = layout.lines, layout.env
-    if E.kBot <= 0.0 or E.cBot <= 0.0:
+    if E.kBot <= 0.0:
         return 0.0
     pen = 0.0
     for li in range(len(layout.line_N)):
         wsub = L.w[li] - E.rho * L.A[li]
         if wsub > 0.0 and L.d[li] > 0.0:
             pen = max(pen, wsub * E.g / (E.kBot * L.d[li]))
-    return float(max(BED_RAMP_FACTOR * pen, 1e-3))
+    return float(pen)
+
+
+def bed_damping_ramp(layout) -> float:
+    """Penetration [m] over which the implicit scheme ramps the seabed contact damping in (a
+    smoothstep): BED_RAMP_FACTOR times the static penetration, at least 1 mm. MoorDyn's contact
+    force jumps by cBot v_n d l when a node lands: the residual then has no root for Newton's
+    method (it cycles between contact and no contact). With the ramp the force is continuous."""
+    if layout.env.kBot <= 0.0 or layout.env.cBot <= 0.0:
+        return 0.0
+    return float(max(BED_RAMP_FACTOR * static_penetration(layout), 1e-3))
+
+
+def bed_spring_blend(layout) -> float:
+    """Penetration [m] over which the implicit scheme blends the seabed spring in (stiffness
+    growing linearly from zero to kBot, a C1 force): BED_BLEND_FACTOR times the static
+    penetration. The line then rests deeper by about half of it (a few mm for chain)."""
+    return float(BED_BLEND_FACTOR * static_penetration(layout))
 
 
 class System:
@@ -429,8 +445,9 @@ class System:
             raise ValueError(f"dtM must be > 0, got {self.dtM}")
         if self.scheme == Scheme.GENALPHA:
             ramp = bed_damping_ramp(self.layout)
-            self.layout.env = self.layout.env._replace(bed_ramp=ramp)
-            self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp)
+            blend = bed_spring_blend(self.layout)
+            self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
+            self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
         self.work = self.layout.new_work()
         n = self.layout.n_state
         self.y = np.zeros(n)
@@ -766,7 +783,8 @@ class System:
         st = self._imp[1].stat
         A = self._imp[0]
         return {"steps": int(st[S_NSTEP]), "rejected": int(st[S_NREJ]), "iterations": int(st[S_NIT]),
-                "jacobians": int(st[S_NJAC]), "evaluations": int(st[S_NRHS]), "step": float(st[S_H]),
+                "jacobians": int(st[S_NJAC]), "refactors": int(st[S_NFAC]), "evaluations": int(st[S_NRHS]),
+                "backtracks": int(st[S_NBACK]), "slow_rebuilds": int(st[S_NSLOW]), "step": float(st[S_H]),
                 "colours": int(A.col_ptr.size - 1), "bandwidth": (int(A.band[0]), int(A.band[1]))}
 
     def _advance(self, motion: Motion, t_end: float) -> None:

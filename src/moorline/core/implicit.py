@@ -42,6 +42,7 @@ from numba import njit
 from .integrate import check_state, knot_step, step_end
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
 from .rhs import motion_piece, rhs
+from .seabed import contact_slope, seabed_at
 
 # indices into ImplicitWork.stat
 S_H = 0  # current step size [s]
@@ -54,7 +55,22 @@ S_NREJ = 6  # rejected (halved) steps (counter)
 S_NSTEP = 7  # accepted steps (counter)
 S_EASY = 8  # accepted steps in a row that converged in at most two iterations
 S_WORST = 9  # DOF of the largest residual at the last failure
-N_STAT = 10
+S_NFAC = 10  # refactorizations of a Jacobian updated for seabed contact (counter)
+S_NBACK = 11  # backtracking line searches (counter)
+S_NSLOW = 12  # Jacobians rebuilt for slow or diverging iterations (counter)
+N_STAT = 13
+
+#: the Jacobian is rebuilt when the contraction of the Newton increments is at least THETA_MAX, or
+#: predicts more than SLOW_ITER further iterations (a Jacobian costs 9-15 derivative evaluations)
+THETA_MAX = 0.9
+SLOW_ITER = 4.0
+#: a residual growing by more than this factor over an iteration starts a backtracking line search
+GROWTH = 1.0
+
+# slots of the per-node seabed contact terms (ImplicitWork.cst[which, node, slot])
+C_NOW = 0  # at the last residual evaluation
+C_FD = 1  # at the iterate the finite-difference Jacobian was built at
+C_APP = 2  # in the factored Jacobian
 
 #: default spectral radius at infinite frequency
 RHO_INF = 0.7
@@ -72,7 +88,11 @@ class ImplicitArrays(NamedTuple):
     pinv: np.ndarray  # int64 (n_dof,): position of each DOF in the banded order
     perm: np.ndarray  # int64 (n_dof,): DOF at each banded position
     band: np.ndarray  # int64 (2,): kl, ku
-    par: np.ndarray  # (9,) alpha_m, alpha_f, beta, gamma, atol_x, atol_v, max_iter, rho_inf, drag scale
+    par: np.ndarray  # (13,) alpha_m, alpha_f, beta, gamma, atol_x, atol_v, max_iter, rho_inf, drag scale,
+    #                 contact update tolerance (0: off), THETA_MAX, SLOW_ITER, GROWTH
+    cn_node: np.ndarray  # int64 (n_cn,): internal line nodes (seabed contact tracked in the Jacobian)
+    cn_dof: np.ndarray  # int64 (n_cn,): their first DOF
+    cn_area: np.ndarray  # (n_cn,): their contact area d lam [m^2]
 
 
 class ImplicitWork(NamedTuple):
@@ -88,6 +108,9 @@ class ImplicitWork(NamedTuple):
     AB: np.ndarray  # (2 kl + ku + 1, n_dof) banded LU factors
     piv: np.ndarray  # int64 (n_dof,)
     stat: np.ndarray  # (N_STAT,)
+    Jraw: np.ndarray  # like AB: the finite-difference Jacobian before factorization
+    cst: np.ndarray  # (3, n_cn, 8): contact terms of the nodes (C_NOW, C_FD, C_APP):
+    #                  s [N/(m/s^2)], M^-1 n [1/kg] (3), n (3), s |M^-1 n|
 
 
 def parse_rho(text: str) -> float:
@@ -202,9 +225,14 @@ def colour_units(adj: list[set]) -> np.ndarray:
     return colour
 
 
+#: default tolerance of the seabed contact update of the Jacobian (see :func:`gen_alpha_step`)
+CONTACT_TOL = 0.1
+
+
 def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, atol_v: float = 1e-5,
-                   max_iter: int = 20) -> ImplicitArrays:
-    """Structure of the implicit solve for ``layout``: colouring and banded order."""
+                   max_iter: int = 20, contact_tol: float = CONTACT_TOL) -> ImplicitArrays:
+    """Structure of the implicit solve for ``layout``: colouring, banded order, and the internal line
+    nodes whose seabed contact terms the Jacobian follows between rebuilds (``contact_tol`` 0: none)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import reverse_cuthill_mckee
 
@@ -249,9 +277,21 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
         if kl2 + ku2 < kl + ku:
             best, kl, ku = (perm, pinv), kl2, ku2
     am, af, beta, gamma = gen_alpha_parameters(rho)
-    par = np.array([am, af, beta, gamma, atol_x, atol_v, float(max_iter), rho, 1.0])
+    par = np.array([am, af, beta, gamma, atol_x, atol_v, float(max_iter), rho, 1.0, contact_tol, THETA_MAX,
+                    SLOW_ITER, GROWTH])
+    L = layout.lines
+    cn_node, cn_dof, cn_area = [], [], []
+    for li in range(len(layout.line_N)):
+        n0, n1, s0 = int(L.node_ptr[li]), int(L.node_ptr[li + 1]), int(L.seg_ptr[li])
+        for n in range(n0 + 1, n1 - 1):
+            if L.node_row[n] >= 0:
+                i = n - n0
+                cn_node.append(n)
+                cn_dof.append(3 * int(L.node_row[n]))
+                cn_area.append(float(L.d[li]) * 0.5 * float(L.seg_l0[s0 + i - 1] + L.seg_l0[s0 + i]))
     return ImplicitArrays(udof, ncomp, adj_ptr, adj_idx, col_ptr, col_units, best[1], best[0],
-                          np.array([kl, ku], dtype=np.int64), par)
+                          np.array([kl, ku], dtype=np.int64), par, np.array(cn_node, dtype=np.int64),
+                          np.array(cn_dof, dtype=np.int64), np.array(cn_area, dtype=float))
 
 
 def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> ImplicitWork:
@@ -262,7 +302,8 @@ def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> Implicit
     stat = z(N_STAT)
     stat[S_H] = dtM
     return ImplicitWork(z(ndof), z(ndof), z(ndof), z(ndof), z(ndof), z(n), z(n), z(n), z(n),
-                        z((2 * kl + ku + 1, max(ndof, 1))), np.zeros(max(ndof, 1), dtype=np.int64), stat)
+                        z((2 * kl + ku + 1, max(ndof, 1))), np.zeros(max(ndof, 1), dtype=np.int64), stat,
+                        z((2 * kl + ku + 1, max(ndof, 1))), z((3, A.cn_node.size, 8)))
 
 
 # ---------------------------------------------------------------------------------------------- banded LU
@@ -405,6 +446,92 @@ def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     G = IW.G
     for i in range(G.size):
         G[i] = (1.0 - am) * IW.a1[i] + am * IW.a0[i] - IW.f0[uoff + i]
+    if par[9] > 0.0:
+        cf = 1.0 - par[1]
+        _contact_terms(A, IW, E, B, W, par[2] * h * h * cf, par[3] * h * cf)
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_terms(A, IW, E, B, W, cx, cv):
+    """Seabed contact terms of the Jacobian at the state of the last derivative evaluation (W), into
+    IW.cst[C_NOW]: each internal line node below the seabed adds s M^-1 n n^T to its diagonal block,
+    with s = k cx + c cv (:func:`~moorline.core.seabed.contact_slope`; ``cx``, ``cv``: the
+    derivatives of the midpoint position and velocity with respect to the acceleration unknown)."""
+    cst = IW.cst
+    flat = B.gx.size == 0
+    for m in range(A.cn_node.size):
+        n = A.cn_node[m]
+        if flat:
+            zb = -E.depth
+            nx = 0.0
+            ny = 0.0
+            nz = 1.0
+        else:
+            zb, nx, ny, nz, _ = seabed_at(B.gx, B.gy, B.gz, E.depth, W.r[n, 0], W.r[n, 1])
+        s = 0.0
+        if W.r[n, 2] < zb:
+            k, c, nx, ny, nz = contact_slope(E, zb, nx, ny, nz, W.r[n, 2], W.v[n, 0], W.v[n, 1], W.v[n, 2],
+                                             A.cn_area[m])
+            s = k * cx + c * cv
+        cst[C_NOW, m, 0] = s
+        if s == 0.0:
+            cst[C_NOW, m, 7] = 0.0
+            continue
+        # M^-1 n with the node mass matrix m I + ma (I - q q^T) + mq q q^T
+        ia = 1.0 / (W.mass[n, 0] + W.mass[n, 1])
+        iq = 1.0 / (W.mass[n, 0] + W.mass[n, 2])
+        qn = (W.q[n, 0] * nx + W.q[n, 1] * ny + W.q[n, 2] * nz) * (iq - ia)
+        mx = ia * nx + qn * W.q[n, 0]
+        my = ia * ny + qn * W.q[n, 1]
+        mz = ia * nz + qn * W.q[n, 2]
+        cst[C_NOW, m, 1] = mx
+        cst[C_NOW, m, 2] = my
+        cst[C_NOW, m, 3] = mz
+        cst[C_NOW, m, 4] = nx
+        cst[C_NOW, m, 5] = ny
+        cst[C_NOW, m, 6] = nz
+        cst[C_NOW, m, 7] = s * math.sqrt(mx * mx + my * my + mz * mz)
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_moved(A, IW, tol, diag):
+    """True when the contact term of a node changed since the factorization by more than ``tol``
+    times its diagonal (``diag``: the inertia term 1 - alpha_m, plus the larger contact term)."""
+    cst = IW.cst
+    for m in range(A.cn_node.size):
+        a = cst[C_NOW, m, 7]
+        b = cst[C_APP, m, 7]
+        if abs(a - b) > tol * (diag + max(a, b)):
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def _refactor(A, IW):
+    """Factor the finite-difference Jacobian with its contact terms moved from the iterate it was
+    built at (C_FD) to the last evaluation (C_NOW). Returns the LU status."""
+    kv = A.band[0] + A.band[1]
+    AB = IW.AB
+    AB[:, :] = IW.Jraw
+    cst = IW.cst
+    pinv = A.pinv
+    for m in range(A.cn_node.size):
+        d0 = A.cn_dof[m]
+        for which in (C_NOW, C_FD):
+            s = cst[which, m, 0]
+            if s == 0.0:
+                continue
+            if which == C_FD:
+                s = -s
+            for b in range(3):
+                pc = pinv[d0 + b]
+                snb = s * cst[which, m, 4 + b]
+                for a in range(3):
+                    AB[kv + pinv[d0 + a] - pc, pc] += snb * cst[which, m, 1 + a]
+        for k in range(8):
+            cst[C_APP, m, k] = cst[C_NOW, m, k]
+    IW.stat[S_NFAC] += 1
+    return band_lu(AB, IW.a1.size, A.band[0], A.band[1], IW.piv)
 
 
 @njit(cache=True, error_model="numpy")
@@ -492,6 +619,12 @@ def _step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
             _assemble(A, IW, IW.f0, f1, uoff, cu, k, 1.0 - par[0], IW.eps)
     IW.stat[S_NJAC] += 1
     IW.stat[S_HJ] = h
+    if par[9] > 0.0:
+        IW.Jraw[:, :] = IW.AB
+        for m in range(A.cn_node.size):
+            for k in range(8):
+                IW.cst[C_FD, m, k] = IW.cst[C_NOW, m, k]
+                IW.cst[C_APP, m, k] = IW.cst[C_NOW, m, k]
     return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
 
 
@@ -522,7 +655,15 @@ def _norm2(v):
 @njit(cache=True, error_model="numpy")
 def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     """One generalized-alpha step of length ``h`` in place. Returns 0 on convergence, 1 when the
-    Newton iterations did not converge (``y`` then restored to the start of the step)."""
+    Newton iterations did not converge (``y`` then restored to the start of the step).
+
+    Modified Newton: the factored Jacobian is kept across iterations and steps. Its seabed contact
+    terms follow the iterate (:func:`_refactor`, no derivative evaluations); it is rebuilt by
+    finite differences only when the step size changed, the residual grew, or the observed
+    contraction of the increments (theta = |da_k| / |da_k-1|) predicts more than ``SLOW_ITER``
+    further iterations. Convergence: the error estimate theta / (1 - theta) |da_k| (Hairer and
+    Wanner's test for Newton's method with a frozen Jacobian; |da_1| itself at the first
+    iteration) below ``atol_x`` in position and ``atol_v`` in velocity."""
     par = A.par
     beta = par[2]
     gamma = par[3]
@@ -543,8 +684,10 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         IW.a1[i] = IW.a0[i]
     hj = IW.stat[S_HJ]
     rebuild = hj <= 0.0 or abs(h - hj) > 1e-9 * h
+    # increment size (in acceleration) that meets both tolerances
+    tol = min(atol_x / (beta * h * h), atol_v / (gamma * h))
     n_built = 0
-    built_at = -1
+    fresh = False  # the factored Jacobian was built at an iterate of this step
     prev = 0.0
     gprev = np.inf
     it = 0
@@ -553,9 +696,9 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         gnorm = _norm2(IW.G)
         if not np.isfinite(gnorm) and it == 0:
             break
-        if gnorm > gprev or not np.isfinite(gnorm):
-            # the residual grew (a node landed or lifted off, a segment went slack): backtrack
-            # along the last increment until it falls, and rebuild the Jacobian there
+        if gnorm > par[12] * gprev or not np.isfinite(gnorm):
+            # the residual grew (a segment went slack, the Jacobian is far off): backtrack along
+            # the last increment until it falls, and rebuild the Jacobian there
             bt = 0
             while (gnorm > gprev or not np.isfinite(gnorm)) and bt < 12:
                 for i in range(nd):
@@ -564,16 +707,24 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
                 _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece)
                 gnorm = _norm2(IW.G)
                 bt += 1
+            IW.stat[S_NBACK] += 1
             if gnorm > gprev or not np.isfinite(gnorm):
                 break
             rebuild = True
+            prev = 0.0
         gprev = gnorm
         if rebuild and n_built < 10:
             if _step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece) != 0:
                 break
             n_built += 1
-            built_at = it
+            fresh = True
             rebuild = False
+            prev = 0.0
+        elif par[9] > 0.0 and _contact_moved(A, IW, par[9], 1.0 - par[0]):
+            # a node landed, lifted off or moved through the contact ramps: update its diagonal
+            # block of the Jacobian analytically (no derivative evaluations) and refactor
+            if _refactor(A, IW) != 0:
+                break
         _solve_increment(A, IW)
         IW.stat[S_NIT] += 1
         it += 1
@@ -583,7 +734,15 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
             d = abs(IW.da[i])
             if d > big:
                 big = d
-        if big * beta * h * h <= atol_x and big * gamma * h <= atol_v:
+        if not np.isfinite(big):
+            break
+        theta = big / prev if prev > 0.0 else -1.0
+        prev = big
+        if theta < 0.0:
+            conv = big <= tol
+        else:
+            conv = theta < 1.0 and theta * big <= (1.0 - theta) * tol
+        if conv or big <= 1e-3 * tol:
             _newmark(IW.y0, IW.a0, IW.a1, h, par, y, IW.ya, R.dims[0], R.dims[1], IW.G)
             for i in range(nd):
                 IW.a0[i] = IW.a1[i]
@@ -592,12 +751,13 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
             else:
                 IW.stat[S_EASY] = 0
             return 0
-        if not np.isfinite(big):
-            break
-        # slow convergence with a Jacobian from an earlier iterate: rebuild it at the current one
-        if it - built_at >= 3 or (prev > 0.0 and big > 0.5 * prev):
+        if theta >= par[10]:
             rebuild = True
-        prev = big
+        elif theta > 0.0 and not fresh:
+            # iterations still needed at this contraction: theta^k big / (1 - theta) <= tol
+            rebuild = math.log((1.0 - theta) * tol / big) / math.log(theta) > par[11]
+        if rebuild:
+            IW.stat[S_NSLOW] += 1
     # failed: remember the worst DOF, restore the state, drop the Jacobian
     worst = 0
     big = -1.0

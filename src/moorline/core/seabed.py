@@ -115,10 +115,42 @@ def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _ramp(pen, ramp):
-    """Factor on the contact damping: 1 (MoorDyn), or pen / ramp while the penetration is below
-    ``ramp`` [m] so the contact force starts from zero (continuous, as Newton's method needs)."""
+    """Factor on the contact damping: 1 (MoorDyn), or the smoothstep u^2 (3 - 2 u), u = pen / ramp,
+    while the penetration is below ``ramp`` [m], so the contact force starts from zero with a zero
+    slope (continuous and continuously differentiable, as Newton's method needs)."""
     if ramp > 0.0 and pen < ramp:
-        return max(pen, 0.0) / ramp
+        u = max(pen, 0.0) / ramp
+        return u * u * (3.0 - 2.0 * u)
+    return 1.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _ramp_slope(pen, ramp):
+    """d(_ramp)/d(pen) [1/m]."""
+    if ramp > 0.0 and 0.0 < pen < ramp:
+        u = pen / ramp
+        return 6.0 * u * (1.0 - u) / ramp
+    return 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _spring(pen, blend):
+    """Penetration the contact spring acts on: ``pen`` (MoorDyn), or with a blend width
+    ``blend`` [m] > 0 the C1 curve pen^2 / (2 blend) up to ``blend`` and pen - blend / 2 beyond,
+    so the spring stiffness grows linearly from zero instead of jumping to kBot at first contact."""
+    if blend > 0.0:
+        if pen < blend:
+            p = max(pen, 0.0)
+            return 0.5 * p * p / blend
+        return pen - 0.5 * blend
+    return pen
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _spring_slope(pen, blend):
+    """d(_spring)/d(pen) [-]."""
+    if blend > 0.0 and pen < blend:
+        return max(pen, 0.0) / blend
     return 1.0
 
 
@@ -128,7 +160,7 @@ def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     if E.contact == CONTACT_NORMAL:
         vn = vx * nx + vy * ny + vz * nz
         pen = (zb - rz) * nz
-        fn = (pen * E.kBot - vn * E.cBot * _ramp(pen, E.bed_ramp)) * area
+        fn = (_spring(pen, E.bed_blend) * E.kBot - vn * E.cBot * _ramp(pen, E.bed_ramp)) * area
         bx = fn * nx
         by = fn * ny
         bz = fn * nz
@@ -138,11 +170,31 @@ def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
         ny = 0.0
         nz = 1.0
         vn = vz
-        fn = ((zb - rz) * E.kBot - vz * E.cBot * _ramp(zb - rz, E.bed_ramp)) * area
+        pen = zb - rz
+        fn = (_spring(pen, E.bed_blend) * E.kBot - vz * E.cBot * _ramp(pen, E.bed_ramp)) * area
         bx = 0.0
         by = 0.0
         bz = fn
     return bx, by, bz, fn, nx, ny, nz, vx - vn * nx, vy - vn * ny, vz - vn * nz
+
+
+@njit(cache=True, error_model="numpy")
+def contact_slope(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
+    """Derivatives of the normal contact force fn of :func:`_contact` (friction left out) of a node
+    below the seabed: ``(k, c, nx, ny, nz)`` with dF/dr = -k n n^T [N/m] and dF/dv = -c n n^T
+    [N s/m] (the seabed taken as locally plane; the ``vertical`` mode acts along z)."""
+    if E.contact == CONTACT_NORMAL:
+        vn = vx * nx + vy * ny + vz * nz
+        pen = (zb - rz) * nz
+    else:
+        nx = 0.0
+        ny = 0.0
+        nz = 1.0
+        vn = vz
+        pen = zb - rz
+    k = (_spring_slope(pen, E.bed_blend) * E.kBot - vn * E.cBot * _ramp_slope(pen, E.bed_ramp)) * area
+    c = E.cBot * _ramp(pen, E.bed_ramp) * area
+    return k, c, nx, ny, nz
 
 
 @njit(cache=True, error_model="numpy")
