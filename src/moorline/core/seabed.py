@@ -154,6 +154,14 @@ def _spring_slope(pen, blend):
     return 1.0
 
 
+def resting_penetration(pen_static: float, blend: float) -> float:
+    """Penetration [m] at which the contact spring (with blend width ``blend``, see
+    :func:`_spring`) carries what a linear spring carries at ``pen_static``."""
+    if blend <= 0.0 or pen_static >= 0.5 * blend:
+        return pen_static + 0.5 * max(blend, 0.0)
+    return math.sqrt(2.0 * blend * pen_static)
+
+
 @njit(cache=True, error_model="numpy")
 def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
