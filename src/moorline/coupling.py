@@ -22,6 +22,7 @@ import numpy as np
 
 from .core.catenary import CatenaryStatus
 from .core.implicit import (
+    RHO_INF,
     S_AVALID,
     S_H,
     S_HJ,
@@ -783,7 +784,7 @@ class System:
     def _implicit(self):
         """(structure, work) of the Newton solves (generalized-alpha steps and statics)."""
         if self._imp is None:
-            rho = float(self.scheme_params[0]) if self.scheme == Scheme.GENALPHA else 0.7
+            rho = float(self.scheme_params[0]) if self.scheme == Scheme.GENALPHA else RHO_INF
             A = build_implicit(self.layout, rho)
             self._imp = (A, new_implicit_work(self.layout, A, self.dtM))
         return self._imp

@@ -24,11 +24,17 @@ damping; 0: the highest modes are annihilated in one step). Orientations of 6-DO
 through the rotation vector: q1 = exp(theta) q0 with theta the Newmark increment of the global
 angular velocity.
 
-Newton iterations reuse the factored Jacobian across steps while they converge quickly (modified
-Newton) and rebuild it when convergence slows, the step size changes or an iteration fails; a step
-that does not converge is retried with half the step (down to ``dtM / 2**12``), and the step grows
-back by doubling after a run of easy steps. Convergence: every increment of position below
-``atol_x`` [m or rad] and of velocity below ``atol_v`` [m/s or rad/s].
+Newton iterations reuse the factored Jacobian across steps (modified Newton). Seabed contact is
+what changes it fastest: a landing node's contact stiffness and damping are 10-30 times its inertia
+term at dt 0.1 s. Those terms of the internal line nodes are followed analytically at every
+iteration (:func:`_contact_terms`, :func:`_refactor`: the finite-difference Jacobian plus the change
+of each node's diagonal contact block since it was built, refactored, no derivative evaluations).
+The Jacobian is rebuilt only when the step size changed, the contraction of the increments
+(theta) predicts too many further iterations, or a step backtracked twice; convergence is tested
+on the estimated error theta / (1 - theta) |da| (Hairer & Wanner). A step that does not converge is
+retried with half the step (down to ``dtM / 2**12``), and the step grows back by doubling after a
+run of easy steps. Tolerances: ``atol_x`` [m or rad] on positions, ``atol_v`` [m/s or rad/s] on
+velocities.
 """
 
 from __future__ import annotations
@@ -72,8 +78,12 @@ C_NOW = 0  # at the last residual evaluation
 C_FD = 1  # at the iterate the finite-difference Jacobian was built at
 C_APP = 2  # in the factored Jacobian
 
-#: default spectral radius at infinite frequency
-RHO_INF = 0.7
+#: default spectral radius at infinite frequency: 0 (asymptotic annihilation) damps the
+#: lumped-mass model's axial and seabed-contact modes, which a large step cannot resolve, within a
+#: step; on the OC3 chain catenary in surge (15 segments, 100 s) it is also the most accurate:
+#: fairlead tension RMS error against RK4 0.62 % at dt 0.1 s and 0.65 % at 0.25 s, against 0.80 %
+#: and 1.7 % with rho_inf 0.7 (the lumped-mass mesh error alone is 0.62 %)
+RHO_INF = 0.0
 
 
 class ImplicitArrays(NamedTuple):
@@ -687,6 +697,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     # increment size (in acceleration) that meets both tolerances
     tol = min(atol_x / (beta * h * h), atol_v / (gamma * h))
     n_built = 0
+    n_back = 0
     fresh = False  # the factored Jacobian was built at an iterate of this step
     prev = 0.0
     gprev = np.inf
@@ -697,8 +708,8 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         if not np.isfinite(gnorm) and it == 0:
             break
         if gnorm > par[12] * gprev or not np.isfinite(gnorm):
-            # the residual grew (a segment went slack, the Jacobian is far off): backtrack along
-            # the last increment until it falls, and rebuild the Jacobian there
+            # the residual grew (a node crossed the contact kink, a segment went slack, the
+            # Jacobian is far off): backtrack along the last increment until it falls
             bt = 0
             while (gnorm > gprev or not np.isfinite(gnorm)) and bt < 12:
                 for i in range(nd):
@@ -708,9 +719,13 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
                 gnorm = _norm2(IW.G)
                 bt += 1
             IW.stat[S_NBACK] += 1
+            n_back += 1
             if gnorm > gprev or not np.isfinite(gnorm):
                 break
-            rebuild = True
+            # a node crossing the contact kink is the usual cause, which the contact terms follow;
+            # a second backtrack in the step with an old Jacobian rebuilds it
+            if n_back >= 2 and not fresh:
+                rebuild = True
             prev = 0.0
         gprev = gnorm
         if rebuild and n_built < 10:
