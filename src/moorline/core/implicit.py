@@ -64,7 +64,8 @@ S_WORST = 9  # DOF of the largest residual at the last failure
 S_NFAC = 10  # refactorizations of a Jacobian updated for seabed contact (counter)
 S_NBACK = 11  # backtracking line searches (counter)
 S_NSLOW = 12  # Jacobians rebuilt for slow or diverging iterations (counter)
-N_STAT = 13
+S_HPREV = 13  # length of the last accepted step (0: IW.ap not valid)
+N_STAT = 14
 
 #: the Jacobian is rebuilt when the contraction of the Newton increments is at least THETA_MAX, or
 #: predicts more than SLOW_ITER further iterations (a Jacobian costs 9-15 derivative evaluations)
@@ -72,6 +73,10 @@ THETA_MAX = 0.9
 SLOW_ITER = 4.0
 #: a residual growing by more than this factor over an iteration starts a backtracking line search
 GROWTH = 1.0
+#: the iterations start from a1 = a0 + PREDICTOR (h / h_prev) (a0 - a_prev): half the linear
+#: extrapolation of the accelerations (OC3 chain, 15 segments, dt 0.1 s: 11 % fewer derivative
+#: evaluations than the constant start a1 = a0; the full extrapolation overshoots at landings)
+PREDICTOR = 0.5
 
 # slots of the per-node seabed contact terms (ImplicitWork.cst[which, node, slot])
 C_NOW = 0  # at the last residual evaluation
@@ -98,8 +103,8 @@ class ImplicitArrays(NamedTuple):
     pinv: np.ndarray  # int64 (n_dof,): position of each DOF in the banded order
     perm: np.ndarray  # int64 (n_dof,): DOF at each banded position
     band: np.ndarray  # int64 (2,): kl, ku
-    par: np.ndarray  # (13,) alpha_m, alpha_f, beta, gamma, atol_x, atol_v, max_iter, rho_inf, drag scale,
-    #                 contact update tolerance (0: off), THETA_MAX, SLOW_ITER, GROWTH
+    par: np.ndarray  # (14,) alpha_m, alpha_f, beta, gamma, atol_x, atol_v, max_iter, rho_inf, drag scale,
+    #                 contact update tolerance (0: off), THETA_MAX, SLOW_ITER, GROWTH, PREDICTOR
     cn_node: np.ndarray  # int64 (n_cn,): internal line nodes (seabed contact tracked in the Jacobian)
     cn_dof: np.ndarray  # int64 (n_cn,): their first DOF
     cn_area: np.ndarray  # (n_cn,): their contact area d lam [m^2]
@@ -119,6 +124,7 @@ class ImplicitWork(NamedTuple):
     piv: np.ndarray  # int64 (n_dof,)
     stat: np.ndarray  # (N_STAT,)
     Jraw: np.ndarray  # like AB: the finite-difference Jacobian before factorization
+    ap: np.ndarray  # (n_dof,) algorithmic acceleration at the start of the last accepted step
     cst: np.ndarray  # (3, n_cn, 8): contact terms of the nodes (C_NOW, C_FD, C_APP):
     #                  s [N/(m/s^2)], M^-1 n [1/kg] (3), n (3), s |M^-1 n|
 
@@ -288,7 +294,7 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
             best, kl, ku = (perm, pinv), kl2, ku2
     am, af, beta, gamma = gen_alpha_parameters(rho)
     par = np.array([am, af, beta, gamma, atol_x, atol_v, float(max_iter), rho, 1.0, contact_tol, THETA_MAX,
-                    SLOW_ITER, GROWTH])
+                    SLOW_ITER, GROWTH, PREDICTOR])
     L = layout.lines
     cn_node, cn_dof, cn_area = [], [], []
     for li in range(len(layout.line_N)):
@@ -313,7 +319,7 @@ def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> Implicit
     stat[S_H] = dtM
     return ImplicitWork(z(ndof), z(ndof), z(ndof), z(ndof), z(ndof), z(n), z(n), z(n), z(n),
                         z((2 * kl + ku + 1, max(ndof, 1))), np.zeros(max(ndof, 1), dtype=np.int64), stat,
-                        z((2 * kl + ku + 1, max(ndof, 1))), z((3, A.cn_node.size, 8)))
+                        z((2 * kl + ku + 1, max(ndof, 1))), z(ndof), z((3, A.cn_node.size, 8)))
 
 
 # ---------------------------------------------------------------------------------------------- banded LU
@@ -690,8 +696,10 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, 1.0, piece)
         B.ctl[1] = 0
         IW.stat[S_NRHS] += 1
+    hp = IW.stat[S_HPREV]
+    w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
-        IW.a1[i] = IW.a0[i]
+        IW.a1[i] = IW.a0[i] + w * (IW.a0[i] - IW.ap[i])
     hj = IW.stat[S_HJ]
     rebuild = hj <= 0.0 or abs(h - hj) > 1e-9 * h
     # increment size (in acceleration) that meets both tolerances
@@ -760,7 +768,9 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         if conv or big <= 1e-3 * tol:
             _newmark(IW.y0, IW.a0, IW.a1, h, par, y, IW.ya, R.dims[0], R.dims[1], IW.G)
             for i in range(nd):
+                IW.ap[i] = IW.a0[i]
                 IW.a0[i] = IW.a1[i]
+            IW.stat[S_HPREV] = h
             if it <= 4:
                 IW.stat[S_EASY] += 1
             else:
@@ -812,6 +822,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
     nd = IW.a0.size
     stat = IW.stat
     if stat[S_AVALID] == 0.0:
+        stat[S_HPREV] = 0.0
         rhs(t, y, IW.f0, L, R, P, E, B, Mo, W, A.par[8], -1)
         stat[S_NRHS] += 1
         for i in range(nd):
