@@ -22,13 +22,17 @@ import numpy as np
 
 from .core.catenary import CatenaryStatus
 from .core.implicit import (
+    RHO_INF,
     S_AVALID,
     S_H,
     S_HJ,
+    S_NBACK,
+    S_NFAC,
     S_NIT,
     S_NJAC,
     S_NREJ,
     S_NRHS,
+    S_NSLOW,
     S_NSTEP,
     advance_implicit,
     build_implicit,
@@ -39,6 +43,7 @@ from .core.implicit import (
 from .core.integrate import Scheme, advance, parse_scheme
 from .core.layout import P_FREE, Motion, build_layout, static_motion, step_motion
 from .core.rhs import rhs
+from .core.seabed import resting_penetration, seabed_at
 from .core.stability import choose_dtM, stability_report
 from .core.statics import catenary_start, dynamic_relaxation, stationary_solve
 from .errors import SimulationError
@@ -369,26 +374,39 @@ class BodyView(_ObjectView):
 
 #: the implicit scheme ramps the seabed damping in over this many static penetrations
 BED_RAMP_FACTOR = 10.0
+#: and the seabed spring stiffness over this many
+BED_BLEND_FACTOR = 1.0
 
 
-def bed_damping_ramp(layout) -> float:
-    """Penetration [m] over which the implicit scheme ramps the seabed contact damping in:
-    BED_RAMP_FACTOR times the static penetration of the heaviest line under its own submerged
-    weight, (w - rho A) g / (kBot d), at least 1 mm. MoorDyn's contact force jumps by cBot v_n d l
-    when a node lands: the residual then has no root for Newton's method (it cycles between
-    contact and no contact). With the ramp the force is continuous; over one static penetration
-    Newton still needs many iterations and step cuts at landings (42 cut steps in 100 s of the OC3
-    chain at 0.1 s), over ten it needs none (1-2), and the fairlead tension moves by 0.1 % of
-    its mean (RMS against RK4 with MoorDyn's contact, 5.2e-3 against 4.3e-3)."""
+def static_penetration(layout) -> float:
+    """Static seabed penetration [m] of the heaviest line under its own submerged weight,
+    (w - rho A) g / (kBot d) (0 without seabed stiffness or sinking lines)."""
     L, E = layout.lines, layout.env
-    if E.kBot <= 0.0 or E.cBot <= 0.0:
+    if E.kBot <= 0.0:
         return 0.0
     pen = 0.0
     for li in range(len(layout.line_N)):
         wsub = L.w[li] - E.rho * L.A[li]
         if wsub > 0.0 and L.d[li] > 0.0:
             pen = max(pen, wsub * E.g / (E.kBot * L.d[li]))
-    return float(max(BED_RAMP_FACTOR * pen, 1e-3))
+    return float(pen)
+
+
+def bed_damping_ramp(layout) -> float:
+    """Penetration [m] over which the implicit scheme ramps the seabed contact damping in (a
+    smoothstep): BED_RAMP_FACTOR times the static penetration, at least 1 mm. MoorDyn's contact
+    force jumps by cBot v_n d l when a node lands: the residual then has no root for Newton's
+    method (it cycles between contact and no contact). With the ramp the force is continuous."""
+    if layout.env.kBot <= 0.0 or layout.env.cBot <= 0.0:
+        return 0.0
+    return float(max(BED_RAMP_FACTOR * static_penetration(layout), 1e-3))
+
+
+def bed_spring_blend(layout) -> float:
+    """Penetration [m] over which the implicit scheme blends the seabed spring in (stiffness
+    growing linearly from zero to kBot, a C1 force): BED_BLEND_FACTOR times the static
+    penetration. The line then rests deeper by about half of it (a few mm for chain)."""
+    return float(BED_BLEND_FACTOR * static_penetration(layout))
 
 
 class System:
@@ -429,8 +447,9 @@ class System:
             raise ValueError(f"dtM must be > 0, got {self.dtM}")
         if self.scheme == Scheme.GENALPHA:
             ramp = bed_damping_ramp(self.layout)
-            self.layout.env = self.layout.env._replace(bed_ramp=ramp)
-            self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp)
+            blend = bed_spring_blend(self.layout)
+            self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
+            self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
         self.work = self.layout.new_work()
         n = self.layout.n_state
         self.y = np.zeros(n)
@@ -636,6 +655,7 @@ class System:
         A, IW = self._implicit()
         y_start = self.y.copy()
         t0 = time.perf_counter()
+        self._sink_into_seabed(E)
         status, it, resid = newton_statics(self.y, A, IW, L, R, P, E, B, self._motion, W, float(opts.dtIC),
                                            NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_FIRST_IT)
         relax = 0.0
@@ -659,6 +679,27 @@ class System:
                     "" if self.scheme == Scheme.GENALPHA else "; falling back to MoorDyn's initial-condition method")
         self.y[:] = y_start
         return False
+
+    def _sink_into_seabed(self, E) -> None:
+        """Lower the internal line nodes the catenary start laid on the seabed to the penetration
+        at which the contact law ``E`` carries the line's submerged weight. On the seabed surface
+        itself the contact stiffness of the Jacobian is zero (one-sided at MoorDyn's kink, zero
+        with the implicit scheme's spring blend): Newton's first step would sink them by metres
+        and take dozens of damped iterations to come back (15-segment OC3 chain: 53 iterations,
+        4 after sinking)."""
+        L, B = self.layout.lines, self.layout.seabed
+        if E.kBot <= 0.0:
+            return
+        for li in range(len(self.layout.line_N)):
+            wsub = (L.w[li] - E.rho * L.A[li]) * E.g
+            if wsub <= 0.0 or L.d[li] <= 0.0:
+                continue
+            pen = resting_penetration(wsub / (E.kBot * L.d[li]), E.bed_blend)
+            for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+                k = 3 * int(L.node_row[n])
+                zb = seabed_at(B.gx, B.gy, B.gz, E.depth, self.y[k], self.y[k + 1])[0]
+                if self.y[k + 2] <= zb + 1e-6 * max(1.0, abs(zb)):
+                    self.y[k + 2] = zb - pen
 
     def _implicit_relaxation(self, A, IW, L, R, P, E, B, W) -> float:
         """Implicit dynamic relaxation towards equilibrium (see :meth:`_newton_ic`): until the line
@@ -743,7 +784,7 @@ class System:
     def _implicit(self):
         """(structure, work) of the Newton solves (generalized-alpha steps and statics)."""
         if self._imp is None:
-            rho = float(self.scheme_params[0]) if self.scheme == Scheme.GENALPHA else 0.7
+            rho = float(self.scheme_params[0]) if self.scheme == Scheme.GENALPHA else RHO_INF
             A = build_implicit(self.layout, rho)
             self._imp = (A, new_implicit_work(self.layout, A, self.dtM))
         return self._imp
@@ -766,7 +807,8 @@ class System:
         st = self._imp[1].stat
         A = self._imp[0]
         return {"steps": int(st[S_NSTEP]), "rejected": int(st[S_NREJ]), "iterations": int(st[S_NIT]),
-                "jacobians": int(st[S_NJAC]), "evaluations": int(st[S_NRHS]), "step": float(st[S_H]),
+                "jacobians": int(st[S_NJAC]), "refactors": int(st[S_NFAC]), "evaluations": int(st[S_NRHS]),
+                "backtracks": int(st[S_NBACK]), "slow_rebuilds": int(st[S_NSLOW]), "step": float(st[S_H]),
                 "colours": int(A.col_ptr.size - 1), "bandwidth": (int(A.band[0]), int(A.band[1]))}
 
     def _advance(self, motion: Motion, t_end: float) -> None:

@@ -11,7 +11,10 @@
    a rod (1 % RMS of the fairlead tension, relative to its mean);
 5. it stays stable and accurate at dt = 0.05 s and 0.1 s on the chain (no stability limit), and
    keeps the fairlead tension of an axially stiff lazy-wave cable at dt = 0.05 s and 0.1 s;
-6. its observed order of accuracy is 2 (theory: second order for any rho_inf).
+6. its observed order of accuracy is 2 (theory: second order for any rho_inf);
+7. the implicit path's seabed contact law is C1 and MoorDyn's beyond its ramps (explicit schemes keep
+   MoorDyn's law exactly), Newton statics starts seabed nodes at their resting penetration, and a
+   chain whose touchdown nodes land and lift off costs few derivative evaluations per step.
 """
 
 from __future__ import annotations
@@ -318,3 +321,89 @@ def test_gen_alpha_parameters():
     assert (am, af, beta, gamma) == (0.5, 0.5, 0.25, 0.5)  # trapezoidal rule
     am, af, beta, gamma = gen_alpha_parameters(0.0)
     assert gamma == pytest.approx(0.5 - am + af) and beta == pytest.approx(0.25 * (1 - am + af) ** 2)
+
+
+# ------------------------------------------------------------------------------------------------
+# 7. seabed contact of the implicit path and the cost of a step
+
+
+def contact_env(scheme):
+    return System(chain_model(N=10), scheme=scheme, dtM=0.1).layout.env
+
+
+def normal_force(E, pen, vn, area=1.0):
+    """Normal contact force of a node ``pen`` below a flat seabed at z = 0 moving at ``vn``."""
+    from moorline.core.seabed import _contact
+
+    return _contact(E, 0.0, 0.0, 0.0, 1.0, -pen, 0.0, 0.0, vn, area)[3]
+
+
+def test_explicit_schemes_keep_moordyns_contact_law():
+    E = contact_env("RK4")
+    assert E.bed_ramp == 0.0 and E.bed_blend == 0.0
+    for pen, vn in ((1e-4, -0.3), (0.01, 0.5), (0.2, 0.0)):
+        assert normal_force(E, pen, vn) == pen * E.kBot - vn * E.cBot  # bit for bit
+
+
+def test_implicit_contact_law_is_c1_and_matches_moordyn_past_the_ramps():
+    from moorline.core.seabed import contact_slope, resting_penetration
+
+    E = contact_env("GenAlpha")
+    w, ramp = E.bed_blend, E.bed_ramp
+    assert 0.0 < w < ramp  # one static penetration and ten of the 216 mm chain (about 4 and 40 mm)
+    vn = -0.4  # landing
+    # continuous and continuously differentiable: across each join (0, w, ramp) the force and its
+    # slope on a grid of step dp change by O(dp) (a jump in the slope would change it by O(1))
+    for p0 in (0.0, w, ramp):
+        dp = 1e-7 * max(p0, w)
+        f = [normal_force(E, p0 + k * dp, vn) for k in (-2, -1, 0, 1, 2)]
+        slopes = np.diff(f) / dp
+        scale = E.kBot + abs(vn) * E.cBot / ramp
+        assert abs(f[3] - f[1]) < 3.0 * scale * dp, p0
+        assert np.ptp(slopes) < 1e-3 * scale, (p0, slopes)
+    # zero force and slope at first contact
+    assert normal_force(E, 0.0, vn) == 0.0
+    # past both ramps: MoorDyn's law with the spring shifted by w / 2
+    pen = 2.0 * ramp
+    assert normal_force(E, pen, vn) == pytest.approx((pen - 0.5 * w) * E.kBot - vn * E.cBot, rel=1e-12)
+    # the analytic slopes the Jacobian update uses agree with finite differences of the force
+    for pen in (0.3 * w, 0.7 * ramp, 3.0 * ramp):
+        k, c, nx, ny, nz = contact_slope(E, 0.0, 0.0, 0.0, 1.0, -pen, 0.0, 0.0, vn, 1.0)
+        dp = 1e-6 * w
+        k_fd = (normal_force(E, pen + dp, vn) - normal_force(E, pen - dp, vn)) / (2 * dp)
+        c_fd = -(normal_force(E, pen, vn + 1e-6) - normal_force(E, pen, vn - 1e-6)) / 2e-6
+        assert (nx, ny, nz) == (0.0, 0.0, 1.0)
+        assert k == pytest.approx(k_fd, rel=1e-5) and c == pytest.approx(c_fd, rel=1e-5)
+    # the spring carries the static load at the resting penetration
+    pen_s = 0.37 * w
+    assert normal_force(E, resting_penetration(pen_s, w), 0.0) == pytest.approx(pen_s * E.kBot, rel=1e-9)
+
+
+def test_newton_statics_from_the_catenary_start_needs_few_iterations():
+    # nodes the catenary start lays on the seabed start at their resting penetration: without
+    # that the first Newton step sank them by metres, and the OC3 chain needed 30 iterations,
+    # implicit relaxation and 5 more (measured now: 4 iterations)
+    s = System.from_file(SHARED / "conformance/inputs/catenary_3line/lines.txt", scheme="GenAlpha", dtM=0.1)
+    s.init()
+    assert s.ic_report["method"] == "newton" and s.ic_report["converged"], s.ic_report
+    assert s.ic_report["iterations"] <= 8, s.ic_report
+
+
+def test_chain_with_seabed_contact_costs_few_evaluations_per_step():
+    # the touchdown nodes land and lift off every period; the Jacobian follows their contact
+    # terms without derivative evaluations, and the modified Newton iterations stop on their
+    # estimated error. Counted over the whole run, initial conditions included (this deck's
+    # Newton statics still falls back to implicit relaxation, about 700 evaluations): 4.2
+    # evaluations per step at dt 0.05 s (6.3 before; 6.3 against 13.3 at dt 0.1 s), 0.76 % RMS
+    # against RK4 (0.56 % before, rho_inf 0.7 and MoorDyn's spring); the bound of 1 % is the
+    # issue's accuracy target, as in the tests above
+    X_of = lambda x0: smooth_sine(x0, 6.0, 20.0, 10.0, (1, 0, 0))  # noqa: E731
+    T, dto = 40.0, 0.1
+    ref, _ = fairlead_tension(chain_model, "RK4", 0.005, X_of, T, dto)
+    ten, s = fairlead_tension(chain_model, "GenAlpha", 0.05, X_of, T, dto)
+    st = s.solver_stats
+    keep = slice(int(10.0 / dto), None)
+    assert rms_rel(ten[keep], ref[keep]) < 0.01, st
+    assert st["refactors"] > 0, st  # contact terms were followed
+    assert st["evaluations"] / st["steps"] < 6.0, st
+    assert st["jacobians"] < 0.15 * st["steps"], st

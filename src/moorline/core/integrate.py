@@ -44,7 +44,7 @@ def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
     Euler, RK2, RK4, and MoorDyn's ``BEuler<M>`` and ``Midpoint<M>`` (M fixed-point iterations,
     evaluated at t + c dt with c = 1 or 1/2, relaxed as MoorDyn does) are implemented, and
     moorline's truly implicit ``GenAlpha[rho_inf]`` (generalized-alpha with Newton iterations,
-    :mod:`moorline.core.implicit`; ``params[0]`` = rho_inf, default 0.7). Other MoorDyn
+    :mod:`moorline.core.implicit`; ``params[0]`` = rho_inf, default 0). Other MoorDyn
     names, and unknown names, fall back to RK2 as MoorDyn does for unknown names, with a warning.
 
     Returns

@@ -154,6 +154,9 @@ class EnvArrays(NamedTuple):
     #: penetration [m] over which the seabed contact damping grows from zero to full (0: MoorDyn's
     #: step at first contact; the implicit scheme needs a continuous contact force, see System)
     bed_ramp: float = 0.0
+    #: penetration [m] over which the contact spring stiffness grows from zero to kBot (0: MoorDyn's
+    #: kink at first contact; the implicit scheme's Newton iterations prefer a C1 force)
+    bed_blend: float = 0.0
 
 
 class Seabed(NamedTuple):

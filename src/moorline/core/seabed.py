@@ -32,7 +32,7 @@ from .layout import CONTACT_NORMAL, FRIC_ISOTROPIC
 from .numerics import bracket, unit3
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _locate(g, v):
     """Cell index i with g[i] <= v < g[i+1] (clamped) and the fraction within it."""
     n = g.size
@@ -44,7 +44,7 @@ def _locate(g, v):
     return lo, (v - g[lo]) / (g[lo + 1] - g[lo])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def seabed_at(gx, gy, gz, depth, x, y):
     """Seabed height and unit normal at (x, y) of the grid (gx, gy, gz) (flat at -depth when
     ``gx`` is empty).
@@ -79,7 +79,7 @@ def seabed_at(gx, gy, gz, depth, x, y):
     return zb, -dzdx * inv, -dzdy * inv, inv, outside
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _saturate(mu, cv, mc, N, vx, vy, vz):
     """MoorDyn's saturated-damping friction on a sliding velocity: mu cv |v| while that is below
     mc mu N, else mu N; opposite to v."""
@@ -91,7 +91,7 @@ def _saturate(mu, cv, mc, N, vx, vy, vz):
     return -ff * vx / vm, -ff * vy / vm, -ff * vz / vm
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
     """One direction of the stick-slip friction: spring extension ``dd`` [m] and velocity ``vv``
     [m/s] along it. Returns (force, new extension, new slip flag)."""
@@ -113,22 +113,62 @@ def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
     return f, dd, flag
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
 def _ramp(pen, ramp):
-    """Factor on the contact damping: 1 (MoorDyn), or pen / ramp while the penetration is below
-    ``ramp`` [m] so the contact force starts from zero (continuous, as Newton's method needs)."""
+    """Factor on the contact damping: 1 (MoorDyn), or the smoothstep u^2 (3 - 2 u), u = pen / ramp,
+    while the penetration is below ``ramp`` [m], so the contact force starts from zero with a zero
+    slope (continuous and continuously differentiable, as Newton's method needs)."""
     if ramp > 0.0 and pen < ramp:
-        return max(pen, 0.0) / ramp
+        u = max(pen, 0.0) / ramp
+        return u * u * (3.0 - 2.0 * u)
     return 1.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def _ramp_slope(pen, ramp):
+    """d(_ramp)/d(pen) [1/m]."""
+    if ramp > 0.0 and 0.0 < pen < ramp:
+        u = pen / ramp
+        return 6.0 * u * (1.0 - u) / ramp
+    return 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def _spring(pen, blend):
+    """Penetration the contact spring acts on: ``pen`` (MoorDyn), or with a blend width
+    ``blend`` [m] > 0 the C1 curve pen^2 / (2 blend) up to ``blend`` and pen - blend / 2 beyond,
+    so the spring stiffness grows linearly from zero instead of jumping to kBot at first contact."""
+    if blend > 0.0:
+        if pen < blend:
+            p = max(pen, 0.0)
+            return 0.5 * p * p / blend
+        return pen - 0.5 * blend
+    return pen
+
+
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def _spring_slope(pen, blend):
+    """d(_spring)/d(pen) [-]."""
+    if blend > 0.0 and pen < blend:
+        return max(pen, 0.0) / blend
+    return 1.0
+
+
+def resting_penetration(pen_static: float, blend: float) -> float:
+    """Penetration [m] at which the contact spring (with blend width ``blend``, see
+    :func:`_spring`) carries what a linear spring carries at ``pen_static``."""
+    if blend <= 0.0 or pen_static >= 0.5 * blend:
+        return pen_static + 0.5 * max(blend, 0.0)
+    return math.sqrt(2.0 * blend * pen_static)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
     if E.contact == CONTACT_NORMAL:
         vn = vx * nx + vy * ny + vz * nz
         pen = (zb - rz) * nz
-        fn = (pen * E.kBot - vn * E.cBot * _ramp(pen, E.bed_ramp)) * area
+        fn = (_spring(pen, E.bed_blend) * E.kBot - vn * E.cBot * _ramp(pen, E.bed_ramp)) * area
         bx = fn * nx
         by = fn * ny
         bz = fn * nz
@@ -138,14 +178,34 @@ def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
         ny = 0.0
         nz = 1.0
         vn = vz
-        fn = ((zb - rz) * E.kBot - vz * E.cBot * _ramp(zb - rz, E.bed_ramp)) * area
+        pen = zb - rz
+        fn = (_spring(pen, E.bed_blend) * E.kBot - vz * E.cBot * _ramp(pen, E.bed_ramp)) * area
         bx = 0.0
         by = 0.0
         bz = fn
     return bx, by, bz, fn, nx, ny, nz, vx - vn * nx, vy - vn * ny, vz - vn * nz
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
+def contact_slope(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
+    """Derivatives of the normal contact force fn of :func:`_contact` (friction left out) of a node
+    below the seabed: ``(k, c, nx, ny, nz)`` with dF/dr = -k n n^T [N/m] and dF/dv = -c n n^T
+    [N s/m] (the seabed taken as locally plane; the ``vertical`` mode acts along z)."""
+    if E.contact == CONTACT_NORMAL:
+        vn = vx * nx + vy * ny + vz * nz
+        pen = (zb - rz) * nz
+    else:
+        nx = 0.0
+        ny = 0.0
+        nz = 1.0
+        vn = vz
+        pen = zb - rz
+    k = (_spring_slope(pen, E.bed_blend) * E.kBot - vn * E.cBot * _ramp_slope(pen, E.bed_ramp)) * area
+    c = E.cBot * _ramp(pen, E.bed_ramp) * area
+    return k, c, nx, ny, nz
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _plane_axis(qx, qy, qz, nx, ny, nz):
     """The line tangent projected on the seabed plane, normalised (MoorDyn-F splits along the
     unprojected tangent, which gives the friction a component normal to the seabed wherever the
@@ -155,7 +215,7 @@ def _plane_axis(qx, qy, qz, nx, ny, nz):
     return ux, uy, uz
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def seabed_force(E, zb, nx, ny, nz, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     """Contact and saturated-damping friction (isotropic or directional) on a line node at
     (rx, ry, rz), below the local seabed height ``zb`` with unit normal n, moving at (vx, vy, vz)
@@ -173,7 +233,7 @@ def seabed_force(E, zb, nx, ny, nz, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     return bx + ax + tx, by + ay + ty, bz + az + tz
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def seabed_force_stickslip(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     """Contact and stick-slip friction on line node ``n`` (arguments as :func:`seabed_force`, plus
     the stick-slip state (anchor, slip, ctl) of :class:`~moorline.core.layout.Seabed`). The
