@@ -62,7 +62,7 @@ from numba import njit
 
 from .integrate import check_state, knot_step, step_end
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
-from .rhs import motion_piece, rhs
+from .rhs import motion_eval, motion_piece, rhs
 from .seabed import contact_slope, seabed_at
 
 # indices into ImplicitWork.stat
@@ -701,24 +701,18 @@ def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _coupled_moved(IW, Mo, t, piece):
+def _coupled_moved(IW, Mo, W, t, piece):
     """True when the coupled trajectory at ``t`` on ``piece`` is not where fs was evaluated (a
-    knot with a velocity or acceleration jump, a new trajectory from the coupling)."""
+    knot with a velocity or acceleration jump, a new trajectory from the coupling). Evaluates the
+    trajectory into W.xc, W.vc, W.ac, which the next derivative evaluation overwrites anyway."""
     ck = IW.ck
-    n = ck.shape[1]
-    if n == 0:
+    if ck.shape[1] == 0:
         return False
-    k = piece if piece >= 0 else motion_piece(Mo, t)
-    s = t - Mo.t[k]
-    cc = Mo.c
-    for j in range(n):
-        c0 = cc[k, j, 0]
-        c1 = cc[k, j, 1]
-        c2 = cc[k, j, 2]
-        c3 = cc[k, j, 3]
-        x = c0 + s * (c1 + s * (c2 + s * c3))
-        v = c1 + s * (2.0 * c2 + 3.0 * s * c3)
-        a = 2.0 * c2 + 6.0 * s * c3
+    motion_eval(Mo, t, piece, W.xc, W.vc, W.ac)
+    for j in range(ck.shape[1]):
+        x = W.xc[j]
+        v = W.vc[j]
+        a = W.ac[j]
         if abs(x - ck[0, j]) > 1e-12 * (1.0 + abs(x)) or abs(v - ck[1, j]) > 1e-9 * (1.0 + abs(v)) or \
                 abs(a - ck[2, j]) > 1e-9 * (1.0 + abs(a)):
             return True
@@ -751,7 +745,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         # stick-slip friction anchors are committed at the state at the start of the step (which
         # moves the friction forces: the derivative there is evaluated again)
         _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, True)
-    elif _coupled_moved(IW, Mo, t, piece):
+    elif _coupled_moved(IW, Mo, W, t, piece):
         _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, False)
     hp = IW.stat[S_HPREV]
     w = par[13] * h / hp if hp > 0.0 else 0.0

@@ -403,7 +403,7 @@ def line_bending(L, W):
                                      seg_e[b, 2])
             n = n0 + i
             kurv[n] = kap
-            if not stiff or kap == 0.0:
+            if kap == 0.0:
                 continue
             m = kap * EIc if etn == 0 else table_interp(tab_x, tab_y, et0, etn, kap)
             # f_{i-1} = (M / l_a) e_a x p,  f_{i+1} = (M / l_b) e_b x p,  f_i = -(f_{i-1} + f_{i+1})
@@ -442,7 +442,7 @@ def line_bending(L, W):
                 nin = n0 + N - 1
                 sgn = -1.0
             kurv[nend] = kap
-            if not stiff or kap == 0.0:
+            if kap == 0.0:
                 continue
             m = kap * EIc if etn == 0 else table_interp(tab_x, tab_y, et0, etn, kap)
             cm = m / seg_len[s]

@@ -162,28 +162,24 @@ def resting_penetration(pen_static: float, blend: float) -> float:
     return math.sqrt(2.0 * blend * pen_static)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
-    """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
-    if E.contact == CONTACT_NORMAL:
-        vn = vx * nx + vy * ny + vz * nz
-        pen = (zb - rz) * nz
-        fn = (_spring(pen, E.bed_blend) * E.kBot - vn * E.cBot * _ramp(pen, E.bed_ramp)) * area
-        bx = fn * nx
-        by = fn * ny
-        bz = fn * nz
-    else:
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz):
+    """Direction the contact force acts along (the seabed normal n, or z in MoorDyn-C's vertical
+    mode), the penetration along it and the velocity along it."""
+    if E.contact != CONTACT_NORMAL:
         # MoorDyn-C: vertical contact, friction on the horizontal velocity
         nx = 0.0
         ny = 0.0
         nz = 1.0
-        vn = vz
-        pen = zb - rz
-        fn = (_spring(pen, E.bed_blend) * E.kBot - vz * E.cBot * _ramp(pen, E.bed_ramp)) * area
-        bx = 0.0
-        by = 0.0
-        bz = fn
-    return bx, by, bz, fn, nx, ny, nz, vx - vn * nx, vy - vn * ny, vz - vn * nz
+    return nx, ny, nz, (zb - rz) * nz, vx * nx + vy * ny + vz * nz
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
+    """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
+    nx, ny, nz, pen, vn = _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz)
+    fn = (_spring(pen, E.bed_blend) * E.kBot - vn * E.cBot * _ramp(pen, E.bed_ramp)) * area
+    return fn * nx, fn * ny, fn * nz, fn, nx, ny, nz, vx - vn * nx, vy - vn * ny, vz - vn * nz
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -191,15 +187,7 @@ def contact_slope(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     """Derivatives of the normal contact force fn of :func:`_contact` (friction left out) of a node
     below the seabed: ``(k, c, nx, ny, nz)`` with dF/dr = -k n n^T [N/m] and dF/dv = -c n n^T
     [N s/m] (the seabed taken as locally plane; the ``vertical`` mode acts along z)."""
-    if E.contact == CONTACT_NORMAL:
-        vn = vx * nx + vy * ny + vz * nz
-        pen = (zb - rz) * nz
-    else:
-        nx = 0.0
-        ny = 0.0
-        nz = 1.0
-        vn = vz
-        pen = zb - rz
+    nx, ny, nz, pen, vn = _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz)
     k = (_spring_slope(pen, E.bed_blend) * E.kBot - vn * E.cBot * _ramp_slope(pen, E.bed_ramp)) * area
     c = E.cBot * _ramp(pen, E.bed_ramp) * area
     return k, c, nx, ny, nz
