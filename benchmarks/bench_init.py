@@ -21,8 +21,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import os
-import shutil
 import statistics
 import sys
 import tempfile
@@ -33,7 +31,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_vs_moordyn import CONF, ROOT, quiet_fds  # noqa: E402
+from bench_vs_moordyn import CONF, ROOT, finish_table, moordyn_copy, moordyn_coupled_points  # noqa: E402
 from make_farm import write_farm  # noqa: E402
 
 
@@ -50,31 +48,15 @@ def decks() -> dict[str, Path]:
 def moordyn_init(deck: Path):
     import moordyn as md
 
-    work = Path(tempfile.mkdtemp(prefix="bench_md_"))
-    shutil.copytree(deck.parent, work / "case")
-    cwd = os.getcwd()
-    os.chdir(work / "case")
-    try:
-        with quiet_fds():
-            t0 = time.perf_counter()
-            s = md.Create(deck.name)
-            n = md.NCoupledDOF(s)
-            X0 = []
-            for i in range(1, md.GetNumberPoints(s) + 1):
-                P = md.GetPoint(s, i)
-                if md.GetPointType(P) == -1:
-                    X0 += list(md.GetPointPos(P))
-            md.Init(s, X0, [0.0] * n)
-            wall = time.perf_counter() - t0
-            ten = []
-            for i in range(1, md.GetNumberPoints(s) + 1):
-                P = md.GetPoint(s, i)
-                if md.GetPointType(P) == -1:
-                    ten.append(np.linalg.norm(md.GetPointForce(P)))
-            md.Close(s)
-    finally:
-        os.chdir(cwd)
-        shutil.rmtree(work, ignore_errors=True)
+    with moordyn_copy(deck):
+        t0 = time.perf_counter()
+        s = md.Create(deck.name)
+        n = md.NCoupledDOF(s)
+        points = moordyn_coupled_points(md, s)
+        md.Init(s, [x for P in points for x in md.GetPointPos(P)], [0.0] * n)
+        wall = time.perf_counter() - t0
+        ten = [np.linalg.norm(md.GetPointForce(P)) for P in points]
+        md.Close(s)
     return wall, np.asarray(ten)
 
 
@@ -133,11 +115,7 @@ def main(argv=None) -> int:
             rows.append(f"| {name} | moorline | {label} | {statistics.median(r[0] for r in runs):.3f} | {what} | "
                         f"{diff} |")
             print(rows[-1], flush=True)
-    table = "\n".join(rows)
-    print()
-    print(table)
-    if a.out:
-        Path(a.out).write_text(table + "\n")
+    finish_table(rows, a.out)
     return 0
 
 

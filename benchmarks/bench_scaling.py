@@ -24,7 +24,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_vs_moordyn import run_moordyn, run_moorline, sine_motion  # noqa: E402
+from bench_vs_moordyn import finish_table, run_moordyn, run_moorline, sine_motion  # noqa: E402
 from make_farm import write_farm  # noqa: E402
 
 #: (turbines, segments per line): 63, 153, 612, 1530 and 3060 line nodes
@@ -78,11 +78,7 @@ def main(argv=None) -> int:
             rows.append(f"| {nodes} | {code} | {scheme} | {dt_used:g} | {dur:g} | {wall:.3f} | {per_s:.4f} | "
                         f"{1e6 * per_s / nodes:.1f} |")
             print(rows[-1], flush=True)
-    table = "\n".join(rows)
-    print()
-    print(table)
-    if a.out:
-        Path(a.out).write_text(table + "\n")
+    finish_table(rows, a.out)
     return 0
 
 

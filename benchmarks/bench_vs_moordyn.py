@@ -93,38 +93,60 @@ def cases():
     return out
 
 
+@contextlib.contextmanager
+def quiet_in(folder):
+    """Work in ``folder`` (MoorDyn opens the files a deck names relative to the working directory
+    and writes its outputs there) with MoorDyn's console output silenced."""
+    cwd = os.getcwd()
+    os.chdir(folder)
+    try:
+        with quiet_fds():
+            yield
+    finally:
+        os.chdir(cwd)
+
+
+@contextlib.contextmanager
+def moordyn_copy(deck: Path):
+    """Work, silenced, in a scratch copy of the deck's folder, removed afterwards."""
+    work = Path(tempfile.mkdtemp(prefix="bench_md_"))
+    shutil.copytree(deck.parent, work / "case")
+    try:
+        with quiet_in(work / "case"):
+            yield
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def moordyn_coupled_points(md, s) -> list:
+    """MoorDyn's coupled points (type -1), in order: their positions are the coupled DOFs."""
+    points = (md.GetPoint(s, i) for i in range(1, md.GetNumberPoints(s) + 1))
+    return [P for P in points if md.GetPointType(P) == -1]
+
+
+def moordyn_nodes(md, s) -> int:
+    """Number of line nodes of a MoorDyn system."""
+    return sum(md.GetLineN(md.GetLine(s, i)) + 1 for i in range(1, md.GetNumberLines(s) + 1))
+
+
 def run_moordyn(deck: Path, motion, duration, dt):
     import moordyn as md
 
-    work = Path(tempfile.mkdtemp(prefix="bench_md_"))
-    shutil.copytree(deck.parent, work / "case")
-    cwd = os.getcwd()
-    os.chdir(work / "case")
-    try:
-        with quiet_fds():
-            s = md.Create(deck.name)
-            n = md.NCoupledDOF(s)
-            X0 = np.zeros(n)
-            k = 0
-            for i in range(1, md.GetNumberPoints(s) + 1):
-                P = md.GetPoint(s, i)
-                if md.GetPointType(P) == -1:
-                    X0[3 * k:3 * k + 3] = md.GetPointPos(P)
-                    k += 1
-            X = motion(X0) if motion else (lambda t: X0)
-            md.Init(s, list(X(0.0)), [0.0] * n)
-            nsteps = int(round(duration / dt))
-            t0 = time.perf_counter()
-            for k in range(nsteps):
-                xk = X(k * dt)
-                vk = (X((k + 1) * dt) - xk) / dt
-                f = md.Step(s, list(xk), list(vk), k * dt, dt)
-            wall = time.perf_counter() - t0
-            nodes = sum(md.GetLineN(md.GetLine(s, i)) + 1 for i in range(1, md.GetNumberLines(s) + 1))
-            md.Close(s)
-    finally:
-        os.chdir(cwd)
-        shutil.rmtree(work, ignore_errors=True)
+    with moordyn_copy(deck):
+        s = md.Create(deck.name)
+        n = md.NCoupledDOF(s)
+        X0 = np.concatenate([md.GetPointPos(P) for P in moordyn_coupled_points(md, s)] or [np.zeros(0)])
+        X = motion(X0) if motion else (lambda t: X0)
+        md.Init(s, list(X(0.0)), [0.0] * n)
+        nsteps = int(round(duration / dt))
+        t0 = time.perf_counter()
+        for k in range(nsteps):
+            xk = X(k * dt)
+            vk = (X((k + 1) * dt) - xk) / dt
+            f = md.Step(s, list(xk), list(vk), k * dt, dt)
+        wall = time.perf_counter() - t0
+        nodes = moordyn_nodes(md, s)
+        md.Close(s)
     return wall, nodes, np.asarray(f)
 
 
@@ -179,6 +201,15 @@ def compile_times(deck: Path, scheme: str) -> tuple[float, float]:
                                  capture_output=True, text=True)
             times.append(float(out.stdout.strip().splitlines()[-1]))
     return times[0], times[1]
+
+
+def finish_table(rows: list[str], out) -> None:
+    """Print a markdown table after the rows printed as they came, and write it to ``out``."""
+    table = "\n".join(rows)
+    print()
+    print(table)
+    if out:
+        Path(out).write_text(table + "\n")
 
 
 def main(argv=None) -> int:

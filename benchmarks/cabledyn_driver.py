@@ -60,7 +60,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from bench_vs_moordyn import quiet_fds
+from bench_vs_moordyn import moordyn_coupled_points, moordyn_nodes, quiet_in
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("MOORLINE_SHARED", ROOT.parent / "shared"))
@@ -509,35 +509,26 @@ def run_moordyn(case: str | Case, n_segments_per_line: int | None = None, dtM: f
     with tempfile.TemporaryDirectory(prefix="moordyn_") as tmp:
         deck = Path(tmp) / c.deck.name
         deck.write_text(text)
-        cwd = os.getcwd()
-        os.chdir(tmp)
-        try:
-            with quiet_fds():
-                t0 = time.perf_counter()
-                s = md.Create(deck.name)
-                n = md.NCoupledDOF(s)
-                x0 = []
-                for i in range(1, md.GetNumberPoints(s) + 1):
-                    p = md.GetPoint(s, i)
-                    if md.GetPointType(p) == -1:
-                        x0.extend(md.GetPointPos(p))
-                motion = Motion(c, x0)
-                f = md.Init(s, list(motion.position(0.0)), [0.0] * n)
-                f = md.Step(s, list(motion.position(0.0)), [0.0] * n, 0.0, 0.0)
-                startup = time.perf_counter() - t0
-                ten = np.empty((nsteps + 1, n // 3))
-                ten[0] = np.linalg.norm(np.reshape(f, (-1, 3)), axis=1)
-                t0 = time.perf_counter()
-                for k in range(nsteps):
-                    xk = motion.position(k * outer_dt)
-                    vk = (motion.position((k + 1) * outer_dt) - xk) / outer_dt
-                    f = md.Step(s, list(xk), list(vk), k * outer_dt, outer_dt)
-                    ten[k + 1] = np.linalg.norm(np.reshape(f, (-1, 3)), axis=1)
-                wall = time.perf_counter() - t0
-                nodes = sum(md.GetLineN(md.GetLine(s, i)) + 1 for i in range(1, md.GetNumberLines(s) + 1))
-                md.Close(s)
-        finally:
-            os.chdir(cwd)
+        with quiet_in(tmp):
+            t0 = time.perf_counter()
+            s = md.Create(deck.name)
+            n = md.NCoupledDOF(s)
+            x0 = [x for p in moordyn_coupled_points(md, s) for x in md.GetPointPos(p)]
+            motion = Motion(c, x0)
+            f = md.Init(s, list(motion.position(0.0)), [0.0] * n)
+            f = md.Step(s, list(motion.position(0.0)), [0.0] * n, 0.0, 0.0)
+            startup = time.perf_counter() - t0
+            ten = np.empty((nsteps + 1, n // 3))
+            ten[0] = np.linalg.norm(np.reshape(f, (-1, 3)), axis=1)
+            t0 = time.perf_counter()
+            for k in range(nsteps):
+                xk = motion.position(k * outer_dt)
+                vk = (motion.position((k + 1) * outer_dt) - xk) / outer_dt
+                f = md.Step(s, list(xk), list(vk), k * outer_dt, outer_dt)
+                ten[k + 1] = np.linalg.norm(np.reshape(f, (-1, 3)), axis=1)
+            wall = time.perf_counter() - t0
+            nodes = moordyn_nodes(md, s)
+            md.Close(s)
     return {"code": "MoorDyn", "case": c.name, "n_segments_per_line": n_segments_per_line, "dtM": dtM,
             "wall": wall, "startup": startup, "t": np.arange(nsteps + 1) * outer_dt, "fairlead_tension": ten,
             "nodes": nodes}
