@@ -50,7 +50,7 @@ def _cat(arrays) -> np.ndarray:
 
 
 class Recorder:
-    """Collects the state of a :class:`~moorline.coupling.System` at output times.
+    """Collects the state of a :class:`~moorline.system.System` at output times.
 
     Parameters
     ----------

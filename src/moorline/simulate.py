@@ -18,10 +18,10 @@ import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
 
-from .coupling import System
 from .model import Model
 from .motion import Trajectory
 from .results import Recorder
+from .system import System
 
 log = logging.getLogger("moorline")
 

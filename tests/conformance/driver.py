@@ -21,9 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from moorline.coupling import System
 from moorline.io import read_deck
 from moorline.motion import Trajectory
+from moorline.system import System
 
 ROOT = Path(__file__).resolve().parents[2]
 SHARED = Path(os.environ.get("MOORLINE_SHARED", ROOT.parent / "shared"))

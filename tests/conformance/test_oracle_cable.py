@@ -25,8 +25,8 @@ import pytest
 
 md = pytest.importorskip("moordyn")
 
-from moorline.coupling import System  # noqa: E402
 from moorline.io import read_deck  # noqa: E402
+from moorline.system import System  # noqa: E402
 
 pytestmark = pytest.mark.oracle
 

@@ -1,4 +1,4 @@
-"""Tests of the quasi-static elastic catenary (moorline.core.catenary, spec section 6.2).
+"""Tests of the quasi-static elastic catenary (moorline.quasistatic.catenary, spec section 6.2).
 
 Three kinds of check:
 
@@ -21,7 +21,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from moorline.core.catenary import (
+from moorline.quasistatic.catenary import (
     STATUS_INVALID,
     STATUS_NOT_CONVERGED,
     STATUS_OK,

@@ -25,8 +25,8 @@ import math
 import numpy as np
 import pytest
 
-from moorline.coupling import System
 from moorline.model import Curve, Environment, Model, Options
+from moorline.system import System
 
 #: Newton's third law / momentum balance in one evaluation (brief: 1e-9 relative to the loads)
 RTOL_BALANCE = 1e-9

@@ -46,7 +46,7 @@ def build_model(flags2: str = "pvtcsdKb") -> Model:
 @pytest.fixture(scope="module")
 def system():
     """An initialised and once-stepped system (so velocities and damping forces are not all zero)."""
-    from moorline.coupling import System
+    from moorline.system import System
 
     s = System(build_model(), dtM=0.002)
     s.init()
@@ -370,7 +370,7 @@ def test_line_file_values_match_views(system):
 
 
 def test_line_file_viv_and_water_columns():
-    from moorline.coupling import System
+    from moorline.system import System
 
     m = build_model("UDV")
     s = System(m, dtM=0.002)
@@ -531,8 +531,8 @@ END
 @pytest.mark.oracle
 def test_headers_identical_to_moordyn(tmp_path):
     moordyn = pytest.importorskip("moordyn")
-    from moorline.coupling import System
     from moorline.io import read_deck
+    from moorline.system import System
 
     md_dir, ml_dir = tmp_path / "md", tmp_path / "ml"
     md_dir.mkdir()
@@ -584,7 +584,7 @@ def build_rigid_model() -> Model:
 
 @pytest.fixture(scope="module")
 def rigid_system():
-    from moorline.coupling import System
+    from moorline.system import System
 
     s = System(build_rigid_model(), dtM=0.001, scheme="RK4")
     s.init(solve_ic=False)

@@ -11,11 +11,11 @@ import xarray as xr
 
 import moorline
 from moorline.cli import main as cli_main
-from moorline.coupling import System
 from moorline.errors import DeckError, SimulationError
 from moorline.model import Environment, Model, Options
 from moorline.motion import Trajectory
 from moorline.results import write_netcdf
+from moorline.system import System
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "catenary_3line" / "catenary_3line.dat"
 

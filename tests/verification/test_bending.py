@@ -42,10 +42,10 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from moorline.coupling import System
 from moorline.errors import SimulationError
 from moorline.model import Curve, Environment, Model, Options
 from moorline.motion import Trajectory
+from moorline.system import System
 
 RHO = 1025.0
 G = 9.80665

@@ -1,7 +1,7 @@
 """Verification of the lumped-mass statics against the analytic elastic catenary, and of the
 seabed-contact penetration balance (spec sections 3.2, 3.5, 3.6, 3.8, 3.12, 6.3, 6.4).
 
-The reference is written here, independently of ``moorline.core.catenary``: the classic elastic
+The reference is written here, independently of ``moorline.quasistatic.catenary``: the classic elastic
 catenary end conditions (Irvine, "Cable Structures", 1981), solved with ``scipy.optimize.fsolve``.
 The model side is a single line between a fixed anchor and a coupled fairlead, brought to rest by
 the package's stationary initial-condition solver (``System.init(solve_ic=True)``) with a tight
@@ -35,8 +35,8 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from moorline.coupling import System
 from moorline.model import Environment, Model, Options
+from moorline.system import System
 
 RHO = 1025.0
 G = 9.80665

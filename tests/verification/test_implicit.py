@@ -26,11 +26,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from moorline.core.implicit import band_lu, band_solve, dependency_graph, gen_alpha_parameters
+from moorline.core.implicit import gen_alpha_parameters
+from moorline.core.jacobian import band_lu, band_solve, dependency_graph
 from moorline.core.rhs import rhs
-from moorline.coupling import System
 from moorline.model import Environment, Model, Options
 from moorline.motion import Trajectory
+from moorline.system import System
 
 SHARED = Path(os.environ.get("MOORLINE_SHARED", Path(__file__).resolve().parents[3] / "shared"))
 

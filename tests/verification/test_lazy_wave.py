@@ -35,9 +35,9 @@ import math
 import numpy as np
 import pytest
 
-from moorline.coupling import System
 from moorline.model import Environment, Model, Options
 from moorline.motion import Trajectory
+from moorline.system import System
 
 RHO = 1025.0
 G = 9.80665

@@ -44,9 +44,9 @@ import pytest
 from scipy.linalg import expm
 from scipy.special import ellipk
 
-from moorline.coupling import System
 from moorline.model import Environment, Model, Options, rotation_xyz
 from moorline.motion import Trajectory
+from moorline.system import System
 
 RHO = 1025.0
 G = 9.80665

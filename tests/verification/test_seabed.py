@@ -26,10 +26,10 @@ import math
 import numpy as np
 import pytest
 
-from moorline.coupling import System
 from moorline.io.bathymetry import read_seafloor_grid
 from moorline.model import Bathymetry, Environment, Model, Options
 from moorline.motion import Trajectory
+from moorline.system import System
 
 RHO = 1025.0
 G = 9.80665

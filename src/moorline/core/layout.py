@@ -19,6 +19,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..model import BodyKind, Curve, Model, PointKind, RodKind
+from .seabed import CONTACT_NORMAL, CONTACT_VERTICAL, FRIC_DIRECTIONAL, FRIC_ISOTROPIC, FRIC_STICKSLIP
+from .waterkin import build_water_kinematics, still_water
 
 log = logging.getLogger("moorline.core")
 
@@ -126,14 +128,6 @@ class PointArrays(NamedTuple):
     row: np.ndarray  # int64 (n_points,): state row of free points, -1 otherwise
     cpl: np.ndarray  # int64 (n_points,): offset of the point in the coupled-DOF vector, -1 otherwise
     body: np.ndarray  # int64 (n_points,): parent body of body points (r0 then in body axes), -1 otherwise
-
-
-# seabed contact modes and friction models (mirrors of model.CONTACT_MODES / FRICTION_MODELS)
-CONTACT_NORMAL = 0
-CONTACT_VERTICAL = 1
-FRIC_ISOTROPIC = 0
-FRIC_DIRECTIONAL = 1
-FRIC_STICKSLIP = 2
 
 
 class EnvArrays(NamedTuple):
@@ -480,7 +474,6 @@ def build_layout(model: Model) -> Layout:
 def _water(model: Model, depth: float, n_ext: int):
     """The water kinematics (:class:`~moorline.core.waterkin.WaterKin`) of the run and of the
     initial-condition solve (waves off, current on, as MoorDyn does, spec 6.1)."""
-    from .waterkin import build_water_kinematics, still_water  # (waterkin imports seabed, which imports layout)
 
     e = model.env
     if e.waves is None and e.current is None:
@@ -521,6 +514,21 @@ def quat_from_matrix(R: np.ndarray) -> np.ndarray:
         q = [(R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s]
     q = np.array(q)
     return q / np.linalg.norm(q) * (1.0 if q[0] >= 0 else -1.0)
+
+
+def quat_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Unit quaternion (w, x, y, z) of the smallest rotation taking unit vector a to b."""
+    a = a / np.linalg.norm(a)
+    b = b / np.linalg.norm(b)
+    c = float(np.dot(a, b))
+    if c < -1.0 + 1e-12:  # opposite: half a turn about any axis normal to a
+        n = np.cross(a, [1.0, 0.0, 0.0])
+        if np.linalg.norm(n) < 1e-6:
+            n = np.cross(a, [0.0, 1.0, 0.0])
+        n /= np.linalg.norm(n)
+        return np.array([0.0, *n])
+    q = np.array([1.0 + c, *np.cross(a, b)])
+    return q / np.linalg.norm(q)
 
 
 def _skew(r) -> np.ndarray:

@@ -13,9 +13,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .layout import ATT_ROD_A, ATT_ROD_B, FRIC_STICKSLIP
+from .layout import ATT_ROD_A, ATT_ROD_B
 from .numerics import bracket, unit3
-from .seabed import seabed_at, seabed_force, seabed_force_stickslip
+from .seabed import FRIC_STICKSLIP, seabed_at, seabed_force, seabed_force_stickslip
 
 _EPS = 1e-12
 
@@ -390,7 +390,7 @@ def line_bending(L, W):
                 end_moment[li, j, c] = 0.0
         if not stiff:
             # no bending forces: the curvature is only an output, computed on demand
-            # (moorline.coupling.LineView.node_curvatures), not in every evaluation
+            # (moorline.system.LineView.node_curvatures), not in every evaluation
             continue
         for i in range(N + 1):
             kurv[n0 + i] = 0.0

@@ -28,8 +28,14 @@ import math
 
 from numba import njit
 
-from .layout import CONTACT_NORMAL, FRIC_ISOTROPIC
 from .numerics import bracket, unit3
+
+# seabed contact modes and friction models (mirrors of model.CONTACT_MODES / FRICTION_MODELS)
+CONTACT_NORMAL = 0
+CONTACT_VERTICAL = 1
+FRIC_ISOTROPIC = 0
+FRIC_DIRECTIONAL = 1
+FRIC_STICKSLIP = 2
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -266,3 +272,43 @@ def seabed_force_stickslip(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, 
         slip[n, 0] = sa
         slip[n, 1] = st
     return bx + fa * ux + ft * ex, by + fa * uy + ft * ey, bz + fa * uz + ft * ez
+
+
+# ------------------------------------------------------------------ contact law of the implicit scheme
+#: the implicit scheme ramps the seabed damping in over this many static penetrations
+BED_RAMP_FACTOR = 10.0
+
+
+#: and the seabed spring stiffness over this many
+BED_BLEND_FACTOR = 1.0
+
+
+def static_penetration(layout) -> float:
+    """Static seabed penetration [m] of the heaviest line under its own submerged weight,
+    (w - rho A) g / (kBot d) (0 without seabed stiffness or sinking lines)."""
+    L, E = layout.lines, layout.env
+    if E.kBot <= 0.0:
+        return 0.0
+    pen = 0.0
+    for li in range(len(layout.line_N)):
+        wsub = L.w[li] - E.rho * L.A[li]
+        if wsub > 0.0 and L.d[li] > 0.0:
+            pen = max(pen, wsub * E.g / (E.kBot * L.d[li]))
+    return float(pen)
+
+
+def bed_damping_ramp(layout) -> float:
+    """Penetration [m] over which the implicit scheme ramps the seabed contact damping in (a
+    smoothstep): BED_RAMP_FACTOR times the static penetration, at least 1 mm. MoorDyn's contact
+    force jumps by cBot v_n d l when a node lands: the residual then has no root for Newton's
+    method (it cycles between contact and no contact). With the ramp the force is continuous."""
+    if layout.env.kBot <= 0.0 or layout.env.cBot <= 0.0:
+        return 0.0
+    return float(max(BED_RAMP_FACTOR * static_penetration(layout), 1e-3))
+
+
+def bed_spring_blend(layout) -> float:
+    """Penetration [m] over which the implicit scheme blends the seabed spring in (stiffness
+    growing linearly from zero to kBot, a C1 force): BED_BLEND_FACTOR times the static
+    penetration. The line then rests deeper by about half of it (a few mm for chain)."""
+    return float(BED_BLEND_FACTOR * static_penetration(layout))

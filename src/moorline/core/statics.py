@@ -1,5 +1,7 @@
-"""Initial conditions: the catenary start of every line, then MoorDyn's stationary solver or its
-legacy dynamic relaxation (spec section 6).
+"""Static kernels of the dynamic model: MoorDyn's stationary solver and its legacy dynamic
+relaxation (spec section 6), and Newton statics (pseudo-transient Newton with the implicit
+scheme's Jacobian). The strategies that use them are in :mod:`moorline.system.initial`; the
+quasi-static line model is :mod:`moorline.quasistatic`.
 """
 
 from __future__ import annotations
@@ -9,103 +11,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
 from .integrate import advance
-from .layout import ATT_POINT, ATT_ROD_A, P_BODY, P_COUPLED, P_FREE, Layout
+from .jacobian import S_NJAC, S_NRHS, assemble, band_lu, displace, fd_steps, shift_colour, solve_increment
 from .rhs import rhs
-from .rigid import body_kinematics, body_point_kinematics, rod_kinematics, rod_nodes
-from .seabed import seabed_at
-
-
-def end_points(layout: Layout, li: int, W) -> tuple[np.ndarray, np.ndarray]:
-    """Initial positions of the two ends of line ``li`` from the point and rod-end positions
-    that :func:`rigid_start` put in ``W``."""
-    out = []
-    for j in range(2):
-        kind = layout.lines.end_kind[li, j]
-        k = int(layout.lines.end_idx[li, j])
-        if kind != ATT_POINT:
-            out.append(W.rodr[k, 0 if kind == ATT_ROD_A else 1].copy())
-        else:
-            out.append(W.pr[k].copy())
-    return out[0], out[1]
-
-
-def rigid_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W) -> None:
-    """Put free points, rods and bodies at their deck pose in the state ``y`` (coupled objects
-    at ``x_coupled``, velocities zero) and evaluate the kinematics of bodies, rods and points
-    into the Work arrays ``W`` (rod ends ``W.rodr``, points ``W.pr``)."""
-    R = layout.rigid
-    P = layout.points
-    y[:] = 0.0
-    for p in range(len(P.kind)):
-        if P.kind[p] == P_FREE:
-            row = int(P.row[p])
-            y[3 * row:3 * row + 3] = P.r0[p]
-    for k in range(len(R.rod_kind)):
-        if R.rod_row[k] >= 0:
-            row = int(R.rod_row[k])
-            y[3 * row:3 * row + 3] = R.rod_rA0[k]
-        j = int(R.rod_blk[k])
-        if j >= 0:
-            q, _ = layout.block_slices(j)
-            y[q.start:q.start + 3] = R.rod_rA0[k] if R.rod_body[k] < 0 else 0.0
-            y[q.start + 3] = 1.0  # the quaternion rotates the deck axis: identity at the start
-    for i in range(len(R.body_kind)):
-        j = int(R.body_blk[i])
-        if j >= 0:
-            q, _ = layout.block_slices(j)
-            y[q.start:q.start + 3] = R.body_r0[i]
-            y[q.start + 3:q.start + 7] = R.body_Q0[i]
-    W.xc[:] = x_coupled
-    W.vc[:] = 0.0
-    W.ac[:] = 0.0
-    if len(R.body_kind):
-        body_kinematics(y, R, W)
-    if len(R.rod_kind):
-        rod_kinematics(y, R, W)
-        rod_nodes(R, W)
-    for p in range(len(P.kind)):
-        if P.kind[p] == P_COUPLED:
-            o = int(P.cpl[p])
-            W.pr[p] = x_coupled[o:o + 3]
-        elif P.kind[p] != P_BODY:
-            W.pr[p] = P.r0[p]
-    if len(R.body_kind):
-        body_point_kinematics(P, W)
-
-
-def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_tol: float = 1e-5) -> list[int]:
-    """Place rigid objects at their deck pose (:func:`rigid_start`), then every line on its
-    quasi-static catenary (spec 6.2); velocities zero. Returns ``(line index, status)`` of the
-    lines whose catenary solve failed and were left on the straight chord (a vertical line is
-    placed on its chord by design and is not a failure)."""
-    rigid_start(layout, x_coupled, y, W)
-    L = layout.lines
-    E = layout.env
-    B = layout.seabed
-    failed = []
-    for li in range(len(layout.line_N)):
-        rA, rB = end_points(layout, li, W)
-        N = int(layout.line_N[li])
-        out = np.zeros((N + 1, 3))
-        Wl = (L.w[li] - E.rho * L.A[li]) * E.g
-        # a seabed at the lower end's level, if an end lies on (or below) the local seabed
-        seabed = any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB))
-        EA = float(L.seg_EA[L.seg_ptr[li]])
-        status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
-        if status not in (STATUS_OK, STATUS_SHORT_SPAN):
-            failed.append((li, int(status)))
-        # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
-        # on a slope starts on it, not through it)
-        for j in range(1, N):
-            zb = seabed_at(B.gx, B.gy, B.gz, E.depth, out[j, 0], out[j, 1])[0]
-            if out[j, 2] < zb:
-                out[j, 2] = zb
-        for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
-            row = int(L.node_row[n])
-            y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
-    return failed
 
 
 @njit(cache=True, error_model="numpy")
@@ -273,3 +181,122 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
             if ok:
                 return True, t, -1
     return False, t, -1
+
+
+# ---------------------------------------------------------------------------------------------- Newton statics
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
+    """J = diag I - df/dx at the positions IW.y0 (zero velocities), factored. IW.f0 must hold the
+    derivative at IW.y0. Returns the LU status."""
+    n3 = R.dims[0]
+    n6 = R.dims[1]
+    uoff = 3 * n3 + 7 * n6
+    nd = IW.a1.size
+    fd_steps(IW, n3, n6, 1e-7, 1.0)
+    IW.AB[:, :] = 0.0
+    nc = A.col_ptr.size - 1
+    kmax = 6 if n6 > 0 else 3
+    dq = IW.da
+    for cu in range(nc):
+        for k in range(kmax):
+            for i in range(nd):
+                dq[i] = 0.0
+            if not shift_colour(A, cu, k, dq, IW.eps, 1.0):
+                continue
+            for i in range(y.size):
+                y[i] = IW.y0[i]
+            displace(IW.y0, dq, y, n3, n6, 1.0)
+            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, 1.0, -1)
+            IW.stat[S_NRHS] += 1
+            assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
+    IW.stat[S_NJAC] += 1
+    for i in range(y.size):
+        y[i] = IW.y0[i]
+    return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6):
+    """f at the positions of ``y`` with zero velocities into IW.f0; returns (max |acc|, L2 norm)."""
+    uoff = 3 * n3 + 7 * n6
+    for i in range(uoff, y.size):
+        y[i] = 0.0
+    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, 1.0, -1)
+    IW.stat[S_NRHS] += 1
+    big = 0.0
+    s = 0.0
+    for i in range(IW.G.size):
+        g = IW.f0[uoff + i]
+        IW.G[i] = -g
+        s += g * g
+        if abs(g) > big or not np.isfinite(g):
+            big = abs(g) if np.isfinite(g) else np.inf
+    return big, math.sqrt(s)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_iter):
+    """Static equilibrium by pseudo-transient continuation of Newton's method: each iteration
+    solves (I / tau^2 - df/dx) dx = f(x) at zero velocities, with tau^2 grown by the ratio of
+    successive residual norms (switched evolution relaxation) so the iterations start as heavily
+    damped dynamics from a poor guess and end as plain Newton. An iteration that more than doubles
+    the residual is rejected and retried with tau^2 / 4.
+
+    Returns
+    -------
+    status : int
+        1 converged (max residual acceleration <= ``acc_tol`` [m/s^2] and the last position
+        update <= ``dx_tol`` [m]), 0 not within ``max_iter`` iterations, -1 singular or non-finite.
+    iterations : int
+    residual : float
+        Max residual acceleration at the end [m/s^2].
+    """
+    n3 = R.dims[0]
+    n6 = R.dims[1]
+    nd = IW.a1.size
+    tau2 = tau0 * tau0
+    big, nrm = _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
+    if not np.isfinite(nrm):
+        return -1, 0, big
+    dxmax = np.inf
+    it = 0
+    while it < max_iter:
+        if big <= acc_tol and dxmax <= dx_tol:
+            return 1, it, big
+        for i in range(y.size):
+            IW.y0[i] = y[i]
+        # IW.f0 holds f at y0
+        if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, 1.0 / tau2) != 0:
+            return -1, it, big
+        while True:
+            solve_increment(A, IW)
+            it += 1
+            dxmax = 0.0
+            for i in range(nd):
+                d = abs(IW.da[i])
+                if d > dxmax:
+                    dxmax = d
+            displace(IW.y0, IW.da, y, n3, n6, 1.0)
+            big1, nrm1 = _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
+            if np.isfinite(nrm1) and (nrm1 <= 2.0 * nrm or tau2 < 1e-12):
+                break
+            # reject: back to y0 with a smaller pseudo step
+            for i in range(y.size):
+                y[i] = IW.y0[i]
+            tau2 *= 0.25
+            if it >= max_iter:
+                return 0, it, big
+            _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
+            if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, 1.0 / tau2) != 0:
+                return -1, it, big
+        if not np.isfinite(nrm1):
+            return -1, it, big1
+        ratio = nrm / nrm1 if nrm1 > 0.0 else 1e6
+        tau2 *= min(max(ratio, 0.1), 1e3)
+        if tau2 > 1e30:
+            tau2 = 1e30
+        big = big1
+        nrm = nrm1
+    if big <= acc_tol and dxmax <= dx_tol:
+        return 1, it, big
+    return 0, it, big

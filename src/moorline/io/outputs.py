@@ -5,14 +5,14 @@ Three parts:
 * :func:`decompose` cuts a word into MoorDyn's ``let1 num1 let2 num2 let3`` pieces and
   :func:`parse_channels` turns the OUTPUTS channel names of a deck (``FairTen1``, ``L2N5T``,
   ``Point3PZ``, ...) into :class:`Channel` objects; :func:`evaluate` reads their current values from
-  a running :class:`moorline.coupling.System`.
+  a running :class:`moorline.system.System`.
 * :func:`line_file_columns` and :func:`line_file_values` give the columns of the per-line file
   ``<base>_Line<n>.out`` selected by the line's output flags (``p K v U D V t c s d b``).
 * :func:`write_main_out` and :func:`write_line_out` write MoorDyn's fixed-width text tables
   (time ``%10.4f``, values ``%20.7e``, a title row and an optional units row), and
   :class:`OutputRecorder` collects rows during a run and writes every file atomically.
 
-This module only reads from a system through the public views of :mod:`moorline.coupling`
+This module only reads from a system through the public views of :mod:`moorline.system`
 (``system.lines[i]``, ``system.points[i]``, ``system.model``, ``system.t``); it does not import
 the coupling layer, so the dependency direction ``io -> model`` holds.
 

@@ -1,0 +1,273 @@
+"""Initial conditions of a :class:`~moorline.system.System` (spec section 6): rigid objects at their
+deck pose, every line on its quasi-static catenary (the start guess), then the static equilibrium
+by one of three strategies:
+
+- Newton statics (``ICNewton 1``, and the default of the implicit scheme): pseudo-transient
+  Newton on the whole system (:func:`moorline.core.statics.newton_statics`), with implicit dynamic
+  relaxation as its fallback for slack, flexible systems far from the start;
+- MoorDyn's stationary solver (its default, :func:`moorline.core.statics.stationary_solve`);
+- MoorDyn's legacy dynamic relaxation (``ICgenDynamic 1``).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..core.implicit import S_AVALID, S_H, S_HJ, advance_implicit, gen_alpha_parameters
+from ..core.integrate import Scheme
+from ..core.layout import ATT_POINT, ATT_ROD_A, P_BODY, P_COUPLED, P_FREE, Layout
+from ..core.rigid import body_kinematics, body_point_kinematics, rod_kinematics, rod_nodes
+from ..core.seabed import resting_penetration, seabed_at
+from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
+from ..errors import SimulationError
+from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
+
+if TYPE_CHECKING:
+    from .runtime import System
+
+log = logging.getLogger("moorline")
+
+#: node speed [m/s] above which a state is taken as unstable
+MAX_NODE_SPEED = 500.0
+#: Newton statics converges when every residual acceleration is below NEWTON_ACC_TOL [m/s^2] (a
+#: force of 1e-5 N per kg of node mass) and the last position update below NEWTON_DX_TOL [m]
+NEWTON_ACC_TOL = 1e-5
+NEWTON_DX_TOL = 1e-6
+NEWTON_MAX_IT = 400
+#: Newton iterations from the catenary start before implicit relaxation takes over
+NEWTON_FIRST_IT = 30
+
+
+def end_points(layout: Layout, li: int, W) -> tuple[np.ndarray, np.ndarray]:
+    """Initial positions of the two ends of line ``li`` from the point and rod-end positions
+    that :func:`rigid_start` put in ``W``."""
+    out = []
+    for j in range(2):
+        kind = layout.lines.end_kind[li, j]
+        k = int(layout.lines.end_idx[li, j])
+        if kind != ATT_POINT:
+            out.append(W.rodr[k, 0 if kind == ATT_ROD_A else 1].copy())
+        else:
+            out.append(W.pr[k].copy())
+    return out[0], out[1]
+
+
+def rigid_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W) -> None:
+    """Put free points, rods and bodies at their deck pose in the state ``y`` (coupled objects
+    at ``x_coupled``, velocities zero) and evaluate the kinematics of bodies, rods and points
+    into the Work arrays ``W`` (rod ends ``W.rodr``, points ``W.pr``)."""
+    R = layout.rigid
+    P = layout.points
+    y[:] = 0.0
+    for p in range(len(P.kind)):
+        if P.kind[p] == P_FREE:
+            row = int(P.row[p])
+            y[3 * row:3 * row + 3] = P.r0[p]
+    for k in range(len(R.rod_kind)):
+        if R.rod_row[k] >= 0:
+            row = int(R.rod_row[k])
+            y[3 * row:3 * row + 3] = R.rod_rA0[k]
+        j = int(R.rod_blk[k])
+        if j >= 0:
+            q, _ = layout.block_slices(j)
+            y[q.start:q.start + 3] = R.rod_rA0[k] if R.rod_body[k] < 0 else 0.0
+            y[q.start + 3] = 1.0  # the quaternion rotates the deck axis: identity at the start
+    for i in range(len(R.body_kind)):
+        j = int(R.body_blk[i])
+        if j >= 0:
+            q, _ = layout.block_slices(j)
+            y[q.start:q.start + 3] = R.body_r0[i]
+            y[q.start + 3:q.start + 7] = R.body_Q0[i]
+    W.xc[:] = x_coupled
+    W.vc[:] = 0.0
+    W.ac[:] = 0.0
+    if len(R.body_kind):
+        body_kinematics(y, R, W)
+    if len(R.rod_kind):
+        rod_kinematics(y, R, W)
+        rod_nodes(R, W)
+    for p in range(len(P.kind)):
+        if P.kind[p] == P_COUPLED:
+            o = int(P.cpl[p])
+            W.pr[p] = x_coupled[o:o + 3]
+        elif P.kind[p] != P_BODY:
+            W.pr[p] = P.r0[p]
+    if len(R.body_kind):
+        body_point_kinematics(P, W)
+
+
+def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_tol: float = 1e-5) -> list[int]:
+    """Place rigid objects at their deck pose (:func:`rigid_start`), then every line on its
+    quasi-static catenary (spec 6.2); velocities zero. Returns ``(line index, status)`` of the
+    lines whose catenary solve failed and were left on the straight chord (a vertical line is
+    placed on its chord by design and is not a failure)."""
+    rigid_start(layout, x_coupled, y, W)
+    L = layout.lines
+    E = layout.env
+    B = layout.seabed
+    failed = []
+    for li in range(len(layout.line_N)):
+        rA, rB = end_points(layout, li, W)
+        N = int(layout.line_N[li])
+        out = np.zeros((N + 1, 3))
+        Wl = (L.w[li] - E.rho * L.A[li]) * E.g
+        # a seabed at the lower end's level, if an end lies on (or below) the local seabed
+        seabed = any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB))
+        EA = float(L.seg_EA[L.seg_ptr[li]])
+        status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
+        if status not in (STATUS_OK, STATUS_SHORT_SPAN):
+            failed.append((li, int(status)))
+        # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
+        # on a slope starts on it, not through it)
+        for j in range(1, N):
+            zb = seabed_at(B.gx, B.gy, B.gz, E.depth, out[j, 0], out[j, 1])[0]
+            if out[j, 2] < zb:
+                out[j, 2] = zb
+        for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+            row = int(L.node_row[n])
+            y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
+    return failed
+
+
+def solve_initial_conditions(sys: System) -> None:
+    """Find the initial equilibrium of ``sys`` from its catenary start with the deck's IC settings
+    (spec 6): Newton statics when asked for (or by default with the implicit scheme), else, or
+    when Newton fails with an explicit scheme, MoorDyn's stationary solver or dynamic relaxation.
+    Fills ``sys.ic_report``."""
+    opts = sys.model.options
+    L, R, P, _, B, W = sys._kernel_arrays()
+    E = sys.layout.env_ic  # waves off, current on (spec 6.1)
+    newton = opts.ICNewton == 1 or (opts.ICNewton == -1 and sys.scheme == Scheme.GENALPHA)
+    if newton and newton_ic(sys, L, R, P, E, B, W):
+        return
+    if sys.scheme == Scheme.GENALPHA:
+        raise SimulationError("Newton statics did not find the initial equilibrium; the implicit scheme has no "
+                              "explicit fallback at its step: set ICNewton 0 with an explicit tScheme, or give "
+                              "a better start (line lengths, anchor positions)", time=0.0)
+    if opts.ICgenDynamic:
+        ok, tic, bad = dynamic_relaxation(sys.y, sys.dtM, int(sys.scheme), sys.scheme_params, opts.dtIC,
+                                          opts.TmaxIC, opts.threshIC, opts.CdScaleIC, L, R, P, E, B,
+                                          sys._motion, W, sys._S, MAX_NODE_SPEED)
+        if bad >= 0:
+            raise sys._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
+        sys.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))
+    else:
+        seg_min = float(np.min(L.seg_l0)) if L.seg_l0.size else 1.0
+        cfl_ic = min(float(opts.CFL), 1.0)
+        status, tic, emean, it = stationary_solve(sys.y, sys.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
+                                                  cfl_ic, seg_min, L, R, P, E, B, sys._motion, W, sys._S)
+        if status < 0 or not np.all(np.isfinite(sys.y)):
+            raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
+                                  "try ICgenDynamic 1 or a smaller dtM", time=0.0)
+        sys.ic_report.update(method="stationary", converged=bool(status == 1), stalled=bool(status == 2),
+                             pseudo_time=float(tic), iterations=int(it), mean_acceleration=float(emean))
+    rep = sys.ic_report
+    g = sys.layout.env.g
+    if rep["converged"]:
+        log.info("initial conditions converged (%s) after %.4g s of pseudo time", rep["method"],
+                 rep["pseudo_time"])
+    elif rep.get("stalled"):
+        level = logging.WARNING if rep["mean_acceleration"] > 0.01 * g else logging.INFO
+        log.log(level, "initial-condition solver stopped after %.4g s of pseudo time because its error stalled "
+                "(as MoorDyn's does); mean residual acceleration %.3g m/s^2", rep["pseudo_time"],
+                rep["mean_acceleration"])
+    else:
+        log.warning("initial conditions did NOT converge (%s) within TmaxIC = %.4g s; the dynamics "
+                    "start from the last iterate", rep["method"], opts.TmaxIC)
+
+
+def newton_ic(sys: System, L, R, P, E, B, W) -> bool:
+    """Static equilibrium by Newton's method (pseudo-transient continuation from the catenary
+    start); when that does not converge quickly (a slack, flexible system far from the start,
+    such as a lazy-wave cable), implicit dynamic relaxation (generalized-alpha with maximal
+    numerical damping, drag scaled by CdScaleIC, steps of up to dtIC) then Newton again.
+    Returns False (state restored) when it does not converge."""
+    opts = sys.model.options
+    A, IW = sys._implicit()
+    y_start = sys.y.copy()
+    t0 = time.perf_counter()
+    sink_into_seabed(sys, E)
+    status, it, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, float(opts.dtIC),
+                                       NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_FIRST_IT)
+    relax = 0.0
+    if status != 1:
+        sys.y[:] = y_start
+        relax = implicit_relaxation(sys, A, IW, L, R, P, E, B, W)
+        status, it2, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, float(opts.dtIC),
+                                            NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_MAX_IT)
+        it += it2
+    wall = time.perf_counter() - t0
+    sys.ic_report.update(method="newton" if relax == 0.0 else "implicit relaxation + newton",
+                         converged=bool(status == 1), iterations=int(it), max_acceleration=float(resid),
+                         pseudo_time=relax, wall_time=wall)
+    sys._reset_scheme()
+    if status == 1:
+        log.info("initial conditions: static equilibrium by Newton in %d iterations%s (%.3g s), residual "
+                 "%.2g m/s^2", it, f" after {relax:.3g} s of implicit relaxation" if relax else "", wall, resid)
+        return True
+    log.warning("Newton statics did not converge (%s after %d iterations, residual %.3g m/s^2)%s",
+                "singular or non-finite" if status < 0 else "not converged", it, resid,
+                "" if sys.scheme == Scheme.GENALPHA else "; falling back to MoorDyn's initial-condition method")
+    sys.y[:] = y_start
+    return False
+
+
+def sink_into_seabed(sys: System, E) -> None:
+    """Lower the internal line nodes the catenary start laid on the seabed to the penetration
+    at which the contact law ``E`` carries the line's submerged weight. On the seabed surface
+    itself the contact stiffness of the Jacobian is zero (one-sided at MoorDyn's kink, zero
+    with the implicit scheme's spring blend): Newton's first step would sink them by metres
+    and take dozens of damped iterations to come back (15-segment OC3 chain: 53 iterations,
+    4 after sinking)."""
+    L, B = sys.layout.lines, sys.layout.seabed
+    if E.kBot <= 0.0:
+        return
+    for li in range(len(sys.layout.line_N)):
+        wsub = (L.w[li] - E.rho * L.A[li]) * E.g
+        if wsub <= 0.0 or L.d[li] <= 0.0:
+            continue
+        pen = resting_penetration(wsub / (E.kBot * L.d[li]), E.bed_blend)
+        for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+            k = 3 * int(L.node_row[n])
+            zb = seabed_at(B.gx, B.gy, B.gz, E.depth, sys.y[k], sys.y[k + 1])[0]
+            if sys.y[k + 2] <= zb + 1e-6 * max(1.0, abs(zb)):
+                sys.y[k + 2] = zb - pen
+
+
+def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W) -> float:
+    """Implicit dynamic relaxation towards equilibrium (see :func:`newton_ic`): until the line
+    end tensions change by less than threshIC (relative) over dtIC, or TmaxIC. Returns the
+    pseudo time [s]."""
+    opts = sys.model.options
+    saved = A.par.copy()
+    am, af, beta, gamma = gen_alpha_parameters(0.0)
+    A.par[:4] = (am, af, beta, gamma)
+    A.par[8] = opts.CdScaleIC
+    st = IW.stat
+    h = min(float(opts.dtIC), 1.0)
+    st[S_AVALID] = st[S_HJ] = 0.0
+    st[S_H] = h
+    seg = sys.layout.lines.seg_ptr
+    ends = np.concatenate([seg[:-1], seg[1:] - 1]) if seg.size > 1 else np.zeros(0, dtype=np.int64)
+    prev = None
+    t = 0.0
+    try:
+        while t < opts.TmaxIC:
+            t_next = t + float(opts.dtIC)
+            t, status, row, _ = advance_implicit(sys.y, t, t_next, h, A, IW, L, R, P, E, B, sys._motion, W,
+                                                 MAX_NODE_SPEED, True)
+            if status != 0:
+                break
+            ten = np.linalg.norm(W.T[ends], axis=1) if ends.size else np.zeros(0)
+            if prev is not None and np.all(np.abs(ten - prev) <= opts.threshIC * np.maximum(np.abs(ten), 1.0)):
+                break
+            prev = ten
+    finally:
+        A.par[:] = saved
+    uoff = sys.layout.u_offset
+    sys.y[uoff:] = 0.0
+    return t

@@ -1,0 +1,532 @@
+"""The outer-program interface: :class:`System` with ``init(x, xd)`` and ``step(x, xd, t, dt)``.
+
+It mirrors MoorDyn's coupling API so that coupling scripts port by renaming::
+
+    sys = moorline.System.from_file("mooring.dat")      # MoorDyn_Create
+    f = sys.init(x, xd)                                  # MoorDyn_Init
+    f = sys.step(x, xd, t, dt)                           # MoorDyn_Step
+    sys.lines[0].fairlead_tension()                      # MoorDyn_GetLineFairTen
+
+``x`` and ``xd`` are the coupled degrees of freedom in MoorDyn's order: coupled bodies and rods
+(6 each, x y z roll pitch yaw; 3 when pinned), then coupled points (3 each). Forces returned are the
+loads the mooring system exerts on the coupled objects [N, N m].
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..core.implicit import advance_implicit, build_implicit, new_implicit_work
+from ..core.integrate import RHO_INF, Scheme, advance, parse_scheme
+from ..core.jacobian import (
+    S_AVALID,
+    S_H,
+    S_HJ,
+    S_NBACK,
+    S_NFAC,
+    S_NIT,
+    S_NJAC,
+    S_NREJ,
+    S_NRHS,
+    S_NSLOW,
+    S_NSTEP,
+)
+from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
+from ..core.rhs import rhs
+from ..core.seabed import bed_damping_ramp, bed_spring_blend
+from ..core.stability import choose_dtM, stability_report
+from ..core.waterkin import fluid_kinematics
+from ..errors import SimulationError
+from ..model import BodyKind, Model, RodKind, rotation_xyz
+from ..quasistatic.catenary import CatenaryStatus
+from .initial import MAX_NODE_SPEED, catenary_start, solve_initial_conditions
+from .views import BodyView, LineView, PointView, RodView
+
+log = logging.getLogger("moorline")
+
+
+class System:
+    """A mooring system ready to integrate.
+
+    Parameters
+    ----------
+    model : Model
+        The description (from :func:`moorline.io.read_deck` or built in Python).
+    dtM : float, optional
+        Internal time step [s]; default from the model options (``dtM`` or ``CFL``).
+    scheme : str, optional
+        Time scheme name (Euler, RK2, RK4, BEuler<M>, Midpoint<M>, or moorline's implicit
+        ``GenAlpha[rho_inf]``); default the model's ``tScheme``. With GenAlpha, ``dtM`` is the
+        largest step (there is no stability limit; the step is halved where Newton struggles).
+    loads_at : {'end', 'last_stage'}
+        What loads (tensions, forces, curvatures) the views report after a step. ``'end'``
+        (default): evaluated at the state and time at the end of the step, consistent with the
+        reported positions. ``'last_stage'``: MoorDyn's convention, the loads of the last
+        derivative evaluation inside the step (for RK2 the midpoint stage, half a dtM earlier),
+        with positions and velocities from the end of the step. The two differ only in the
+        fastest (axial segment) modes; use ``'last_stage'`` to compare with MoorDyn sample by sample.
+    """
+
+    _STAGE_FIELDS = ("T", "Td", "seg_len", "seg_ldot", "F", "Fhyd", "Fbed", "W", "kurv", "pF", "pa")
+
+    def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None,
+                 loads_at: str = "end"):
+        if loads_at not in ("end", "last_stage"):
+            raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
+        self.loads_at = loads_at
+        self.model = model
+        self.layout = build_layout(model)
+        self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
+            scheme if scheme is not None else model.options.tScheme)
+        self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
+        if not self.dtM > 0:
+            raise ValueError(f"dtM must be > 0, got {self.dtM}")
+        if self.scheme == Scheme.GENALPHA:
+            ramp = bed_damping_ramp(self.layout)
+            blend = bed_spring_blend(self.layout)
+            self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
+            self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
+        self.work = self.layout.new_work()
+        n = self.layout.n_state
+        self.y = np.zeros(n)
+        self._S = np.zeros((5, n))
+        self._imp = None  # structure and work of the implicit solves, built on first use
+        self.t = 0.0
+        self._motion = static_motion(self.deck_coupled_positions())
+        self.lines = [LineView(self, i) for i in range(len(model.lines))]
+        self.points = [PointView(self, i) for i in range(len(model.points))]
+        self.rods = [RodView(self, i) for i in range(len(model.rods))]
+        self.bodies = [BodyView(self, i) for i in range(len(model.bodies))]
+        self.initialized = False
+        self._grid_warned = False
+        self.ic_report: dict = {}
+
+    @classmethod
+    def from_file(cls, path, **kwargs) -> System:
+        """Read a MoorDyn v2 deck (see :func:`moorline.io.read_deck`)."""
+        from ..io import read_deck
+
+        return cls(read_deck(Path(path)), **kwargs)
+
+    # ------------------------------------------------------------------ coupled DOFs
+    @property
+    def n_coupled_dof(self) -> int:
+        """Number of coupled degrees of freedom: 6 per coupled body or rod (x, y, z, roll, pitch,
+        yaw), 3 per coupled-pinned body or rod and per coupled point."""
+        return self.layout.n_coupled_dof
+
+    @property
+    def coupled_dof_labels(self) -> list[str]:
+        """Labels of the coupled DOFs in order (bodies, rods, points), e.g. ``['B1_x', ..., 'B1_yaw',
+        'P4_x', ...]``."""
+        labels = []
+        six = ("x", "y", "z", "roll", "pitch", "yaw")
+        for i in self.layout.coupled_bodies:
+            n = 6 if self.layout.rigid.body_kind[i] == int(BodyKind.COUPLED) else 3
+            labels += [f"B{i + 1}_{c}" for c in six[:n]]
+        for k in self.layout.coupled_rods:
+            n = 6 if self.layout.rigid.rod_kind[k] == int(RodKind.COUPLED) else 3
+            labels += [f"R{k + 1}_{c}" for c in six[:n]]
+        labels += [f"P{p + 1}_{c}" for p in self.layout.coupled_points for c in "xyz"]
+        return labels
+
+    def deck_coupled_positions(self) -> np.ndarray:
+        """Coupled DOF vector with every coupled object where the deck puts it (angles [rad])."""
+        out = []
+        m = self.model
+        for i in self.layout.coupled_bodies:
+            b = m.bodies[i]
+            out.append(np.concatenate([b.r, np.radians(b.angles)]) if b.kind == BodyKind.COUPLED else b.r)
+        for k in self.layout.coupled_rods:
+            rod = m.rods[k]
+            out.append(np.concatenate([rod.rA, np.zeros(3)]) if rod.kind == RodKind.COUPLED else rod.rA)
+        P = self.layout.points
+        out += [P.r0[p] for p in self.layout.coupled_points]
+        return np.concatenate(out) if out else np.zeros(0)
+
+    def _check_dof(self, x, name):
+        if x is None:
+            return None
+        x = np.asarray(x, dtype=float).ravel()
+        if x.size != self.n_coupled_dof:
+            raise ValueError(f"{name} has {x.size} values; the system has {self.n_coupled_dof} coupled DOF "
+                             f"({', '.join(self.coupled_dof_labels) or 'none'})")
+        return x
+
+    # ------------------------------------------------------------------ evaluation
+    def _kernel_arrays(self):
+        """(lines, rods, points, env, seabed, work): what every kernel call takes."""
+        lay = self.layout
+        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work
+
+    def _evaluate(self, piece: int = -1) -> None:
+        """Evaluate every load at the current state and time (refreshes what the views report).
+        ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
+        velocity at the end of a step is the one imposed during it)."""
+        dy = self._S[0]
+        L, R, P, E, B, W = self._kernel_arrays()
+        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, 1.0, piece)
+
+    def coupled_forces(self) -> np.ndarray:
+        """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
+        of coupled bodies and rods (3 forces when pinned), the net force of coupled points."""
+        lay = self.layout
+        if lay.n_coupled_dof == 0:
+            return np.zeros(0)
+        W = self.work
+        out = []
+        for i in lay.coupled_bodies:
+            out.append(W.b6F[i, :6 if lay.rigid.body_kind[i] == int(BodyKind.COUPLED) else 3])
+        for k in lay.coupled_rods:
+            out.append(W.rod6F[k, :6 if lay.rigid.rod_kind[k] == int(RodKind.COUPLED) else 3])
+        out += [W.pF[p] for p in lay.coupled_points]
+        return np.concatenate(out)
+
+    # ------------------------------------------------------------------ init
+    def init(self, x=None, xd=None, *, solve_ic: bool = True) -> np.ndarray:
+        """Place coupled objects at ``x``, start every line on its catenary and (with
+        ``solve_ic``) find the initial equilibrium with the deck's IC settings; time is reset to 0.
+
+        Parameters
+        ----------
+        x, xd : array_like (n_coupled_dof,), optional
+            Coupled positions [m] and velocities [m/s]; default: the deck positions, at rest.
+        solve_ic : bool
+            False starts from the catenary profile as MoorDyn's Init_NoIC does.
+
+        Returns
+        -------
+        ndarray (n_coupled_dof,)
+            Forces on the coupled DOFs [N].
+        """
+        x = self._check_dof(x, "x")
+        if x is None:
+            x = self.deck_coupled_positions()
+        xd = self._check_dof(xd, "xd")
+        self.t = 0.0
+        self._motion = static_motion(x)
+        B = self.layout.seabed
+        B.ctl[:] = 0  # stick-slip friction is off while the initial conditions are found
+        failed = catenary_start(self.layout, x, self.y, self.work)
+        for li, status in failed:
+            log.warning("line %d: catenary solve unsuccessful (%s); starting from the straight chord", li + 1,
+                        CatenaryStatus(status).name.lower())
+        self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
+        opts = self.model.options
+        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
+            solve_initial_conditions(self)
+        if xd is not None:
+            self._motion = step_motion(x, xd, 0.0, 1.0)
+        self.t = 0.0
+        self._reset_scheme()
+        self._evaluate()
+        # friction springs start relaxed at the initial position of every node
+        B.anchor[...] = self.work.r
+        B.slip[...] = 0.0
+        B.ctl[0] = 1
+        self._report_stability()
+        self._check_grid()
+        self.initialized = True
+        return self.coupled_forces()
+
+    def _check_grid(self) -> None:
+        B = self.layout.seabed
+        if B.ctl[2] > 0 and not self._grid_warned:
+            self._grid_warned = True
+            log.warning("line nodes reached beyond the bathymetry grid (x %.6g..%.6g, y %.6g..%.6g m) by t = %.6g s; "
+                        "the seabed height of the nearest grid edge is used there", B.gx[0], B.gx[-1], B.gy[0],
+                        B.gy[-1], self.t)
+
+    def _lines_on_seabed(self) -> np.ndarray:
+        """Lines with a node in seabed contact at the last evaluation (for the seabed modes)."""
+        L = self.layout.lines
+        fbed = np.any(self.work.Fbed != 0.0, axis=1)
+        return np.array([np.any(fbed[L.node_ptr[i]:L.node_ptr[i + 1]]) for i in range(len(self.lines))])
+
+    def _report_stability(self) -> None:
+        gov, limit, text = stability_report(self.model, self.layout, self.dtM, self.scheme, self._lines_on_seabed(),
+                                            self.scheme_label)
+        self.stability = {"governing": gov.where, "mode": gov.kind, "rate": gov.rate,
+                          "dtM_limit": limit, "text": text}
+        if self.dtM > limit:
+            log.warning("%s: dtM is likely unstable", text)
+        else:
+            log.info(text)
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, x, xd, t: float, dt: float) -> np.ndarray:
+        """Advance from ``t`` to ``t + dt`` with the coupled DOFs at ``x + xd (tau - t)``.
+
+        Returns the forces on the coupled DOFs at the end of the step [N]. With ``dt <= 0``
+        nothing is integrated and the current forces are returned.
+        """
+        if not self.initialized:
+            raise RuntimeError("call init() before step()")
+        x = self._check_dof(x, "x")
+        xd = self._check_dof(xd, "xd")
+        if x is None:
+            x = self.deck_coupled_positions()
+        if xd is None:
+            xd = np.zeros(self.n_coupled_dof)
+        self.t = float(t)
+        if dt <= 0:
+            self._motion = step_motion(x, xd, self.t, 0.0)
+            self._evaluate()
+            return self.coupled_forces()
+        self._advance(step_motion(x, xd, self.t, dt), self.t + dt)
+        return self.coupled_forces()
+
+    def advance_to(self, t_end: float, motion: Motion) -> None:
+        """Integrate to ``t_end`` [s] following the coupled trajectory ``motion`` (compiled loop)."""
+        if not self.initialized:
+            raise RuntimeError("call init() before advancing")
+        self._advance(motion, float(t_end))
+
+    # ------------------------------------------------------------------ implicit solves
+    def _implicit(self):
+        """(structure, work) of the Newton solves (generalized-alpha steps and statics)."""
+        if self._imp is None:
+            rho = float(self.scheme_params[0]) if self.scheme == Scheme.GENALPHA else RHO_INF
+            A = build_implicit(self.layout, rho)
+            self._imp = (A, new_implicit_work(self.layout, A, self.dtM))
+        return self._imp
+
+    def _reset_scheme(self) -> None:
+        """Forget what the time scheme carries between steps (after the state was set from outside)."""
+        self._S[...] = 0.0  # the fixed-point schemes start without a previous derivative
+        if self._imp is not None:
+            st = self._imp[1].stat
+            st[S_AVALID] = 0.0
+            st[S_HJ] = 0.0
+            st[S_H] = self.dtM
+
+    @property
+    def solver_stats(self) -> dict:
+        """Counters of the implicit solver: steps, rejected steps, Newton iterations, Jacobians,
+        derivative evaluations, and the current step [s] (empty for the explicit schemes)."""
+        if self._imp is None:
+            return {}
+        st = self._imp[1].stat
+        A = self._imp[0]
+        return {"steps": int(st[S_NSTEP]), "rejected": int(st[S_NREJ]), "iterations": int(st[S_NIT]),
+                "jacobians": int(st[S_NJAC]), "refactors": int(st[S_NFAC]), "evaluations": int(st[S_NRHS]),
+                "backtracks": int(st[S_NBACK]), "slow_rebuilds": int(st[S_NSLOW]), "step": float(st[S_H]),
+                "colours": int(A.col_ptr.size - 1), "bandwidth": (int(A.band[0]), int(A.band[1]))}
+
+    def _advance(self, motion: Motion, t_end: float) -> None:
+        self._motion = motion
+        L, R, P, E, B, W = self._kernel_arrays()
+        last_stage = self.loads_at == "last_stage"
+        if self.scheme == Scheme.GENALPHA:
+            A, IW = self._implicit()
+            t, status, row, piece = advance_implicit(self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion,
+                                                     W, MAX_NODE_SPEED, True)
+            self.t = t
+            if status == 1:
+                raise self._instability(t, int(row), "")
+            if status == 2:
+                raise self._newton_failure(t, int(row))
+            self._check_grid()
+            return
+        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P,
+                                   E, B, motion, W, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
+        self.t = t
+        if bad >= 0:
+            raise self._instability(t, int(bad), "")
+        self._check_grid()
+        if last_stage:
+            kept = [getattr(W, f).copy() for f in self._STAGE_FIELDS] if piece >= 0 else []
+            self._evaluate(int(piece))
+            for f, a in zip(self._STAGE_FIELDS, kept, strict=False):
+                getattr(W, f)[...] = a
+
+    # ------------------------------------------------------------------ state access
+    def state_rows(self) -> list[tuple[str, int, int]]:
+        """What each state row is: ``('line', line number, node)``, ``('point', number, 0)``,
+        ``('rod', number, 0)`` for the 3-DOF rows, then ``('rod', number, 0)`` or
+        ``('body', number, 0)`` for each 6-DOF block (numbered after the rows)."""
+        lay = self.layout
+        rows: list[tuple[str, int, int]] = [("", 0, 0)] * (lay.n_rows + lay.n_blocks)
+        L = lay.lines
+        for li in range(len(self.lines)):
+            for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+                rows[int(L.node_row[n])] = ("line", li + 1, n - int(L.node_ptr[li]))
+        P = lay.points
+        for p in range(len(P.kind)):
+            if P.kind[p] == P_FREE:
+                rows[int(P.row[p])] = ("point", p + 1, 0)
+        R = lay.rigid
+        for k in range(len(R.rod_kind)):
+            if R.rod_row[k] >= 0:
+                rows[int(R.rod_row[k])] = ("rod", k + 1, 0)
+            if R.rod_blk[k] >= 0:
+                rows[lay.n_rows + int(R.rod_blk[k])] = ("rod", k + 1, 0)
+        for i in range(len(R.body_kind)):
+            if R.body_blk[i] >= 0:
+                rows[lay.n_rows + int(R.body_blk[i])] = ("body", i + 1, 0)
+        return rows
+
+    def set_state(self, line_positions=None, line_velocities=None, point_positions=None,
+                  point_velocities=None) -> None:
+        """Overwrite the state: internal node positions/velocities of lines (lists of (N+1, 3) arrays,
+        ends ignored) and free point positions/velocities ((n_points, 3), non-free rows ignored).
+        Used to start from another program's initial state."""
+        L = self.layout.lines
+        uoff = self.layout.u_offset
+        for arrs, off in ((line_positions, 0), (line_velocities, uoff)):
+            if arrs is None:
+                continue
+            for li, a in enumerate(arrs):
+                a = np.asarray(a, dtype=float)
+                for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+                    row = int(L.node_row[n])
+                    self.y[off + 3 * row: off + 3 * row + 3] = a[n - int(L.node_ptr[li])]
+        P = self.layout.points
+        for arr, off in ((point_positions, 0), (point_velocities, uoff)):
+            if arr is None:
+                continue
+            arr = np.asarray(arr, dtype=float)
+            for p in range(len(P.kind)):
+                if P.kind[p] == P_FREE:
+                    row = int(P.row[p])
+                    self.y[off + 3 * row: off + 3 * row + 3] = arr[p]
+        self._reset_scheme()
+        if self.initialized:
+            self._evaluate()
+            # stick-slip friction springs restart relaxed at the new node positions
+            B = self.layout.seabed
+            B.anchor[...] = self.work.r
+            B.slip[...] = 0.0
+            self._evaluate()
+
+    # ------------------------------------------------------------------ external water kinematics
+    @property
+    def n_water_nodes(self) -> int:
+        """Number of points whose water kinematics an outer program sets (MoorDyn's
+        ``ExternalWaveKinInit``): every line node, every rod node, every point, the ground body and
+        every body."""
+        return int(self.layout.env.water.U_ext.shape[0]) or (
+            self.work.r.shape[0] + self.work.rn_r.shape[0] + len(self.points) + 1 + len(self.bodies))
+
+    def water_at(self, points, t: float | None = None) -> np.ndarray:
+        """Water kinematics of the model's sea at ``points`` (array_like (n, 3) [m]) at time ``t``
+        [s] (default: now), shape (n, 8): velocity (3) [m/s], acceleration (3) [m/s^2], surface
+        elevation [m], dynamic pressure [Pa]. External kinematics (WaveKin 1) are per node and give
+        only the current here."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        return fluid_kinematics(self.layout.env.water, self.t if t is None else float(t), p)
+
+    def water_node_positions(self) -> np.ndarray:
+        """Current positions of the water-kinematics points [m], shape (n_water_nodes, 3), in
+        MoorDyn's order (``ExternalWaveKinGetCoordinates``): line nodes (line by line, node 0 to N),
+        rod nodes, points, the ground body (origin), bodies."""
+        w = self.work
+        return np.vstack([w.r, w.rn_r, w.pr, np.zeros((1, 3)), w.br])
+
+    def set_water_kinematics(self, U, Ud) -> None:
+        """Set the water velocity [m/s] and acceleration [m/s^2] at every water-kinematics point
+        (shape (n_water_nodes, 3), order of :meth:`water_node_positions`); they hold until the next
+        call (MoorDyn's ``ExternalWaveKinSet``). Needs ``WaveKin 1`` (external waves) in the model."""
+        K = self.layout.env.water
+        if K.U_ext.shape[0] == 0:
+            raise RuntimeError("the model has no external water kinematics: set WaveKin 1 in the deck or "
+                               "env.waves = Waves.external()")
+        U = np.asarray(U, dtype=float)
+        Ud = np.asarray(Ud, dtype=float)
+        if U.shape != K.U_ext.shape or Ud.shape != K.Ud_ext.shape:
+            raise ValueError(f"U and Ud must have shape {K.U_ext.shape}, got {U.shape} and {Ud.shape}")
+        K.U_ext[...] = U
+        K.Ud_ext[...] = Ud
+
+    def set_rod_state(self, k: int, *, end_a=None, axis=None, velocity=None, angular_velocity=None) -> None:
+        """Overwrite the state of rod ``k`` (0-based): end-A position [m] and velocity [m/s] of a
+        free rod, axis (unit vector A to B; the quaternion becomes the smallest rotation from the
+        deck axis) and angular velocity [rad/s] of a free or pinned rod. Values a rod's kind does
+        not hold in its state are ignored."""
+        lay = self.layout
+        R = lay.rigid
+        j = int(R.rod_blk[k])
+        if j >= 0:
+            q, u = lay.block_slices(j)
+            free = R.rod_kind[k] == int(RodKind.FREE)
+            if end_a is not None and free:
+                self.y[q.start:q.start + 3] = end_a
+            if axis is not None:
+                self.y[q.start + 3:q.stop] = quat_between(R.rod_qref[k], np.asarray(axis, dtype=float))
+            if velocity is not None and free:
+                self.y[u.start:u.start + 3] = velocity
+            if angular_velocity is not None:
+                self.y[u.start + 3:u.stop] = angular_velocity
+        elif R.rod_row[k] >= 0:
+            o = 3 * int(R.rod_row[k])
+            if end_a is not None:
+                self.y[o:o + 3] = end_a
+            if velocity is not None:
+                self.y[lay.u_offset + o:lay.u_offset + o + 3] = velocity
+        self._restart()
+
+    def set_body_state(self, i: int, *, position=None, angles=None, velocity=None, angular_velocity=None) -> None:
+        """Overwrite the state of body ``i`` (0-based; free or coupled-pinned): reference-point
+        position [m] and velocity [m/s] (free bodies), roll, pitch, yaw [rad] (Rx Ry Rz) and angular
+        velocity [rad/s]."""
+        lay = self.layout
+        j = int(lay.rigid.body_blk[i])
+        if j < 0:
+            return
+        q, u = lay.block_slices(j)
+        free = lay.rigid.body_kind[i] == int(BodyKind.FREE)
+        if position is not None and free:
+            self.y[q.start:q.start + 3] = position
+        if angles is not None:
+            self.y[q.start + 3:q.stop] = quat_from_matrix(rotation_xyz(angles))
+        if velocity is not None and free:
+            self.y[u.start:u.start + 3] = velocity
+        if angular_velocity is not None:
+            self.y[u.start + 3:u.stop] = angular_velocity
+        self._restart()
+
+    def _restart(self) -> None:
+        self._reset_scheme()
+        if self.initialized:
+            self._evaluate()
+
+    def _where_dof(self, dof: int) -> tuple[str, int, int]:
+        """(kind, number, node) of the state row holding velocity-space DOF ``dof``."""
+        lay = self.layout
+        row = dof // 3 if dof < 3 * lay.n_rows else lay.n_rows + (dof - 3 * lay.n_rows) // 6
+        return self.state_rows()[row]
+
+    def _newton_failure(self, t: float, dof: int) -> SimulationError:
+        what, num, node = self._where_dof(dof)
+        where = f"line {num} node {node}" if what == "line" else f"{what} {num}"
+        h = float(self._imp[1].stat[S_H])
+        msg = (f"implicit solver ({self.scheme_label}) failed at t = {t:.6g} s: Newton iterations did not converge "
+               f"even with the step cut to {h:.3g} s (dtM = {self.dtM:.4g} s); largest residual at {where}. "
+               f"Check the model there (a line pulled beyond its breaking stretch, a node far below the seabed, "
+               f"a zero mass), or run an explicit scheme to see the motion")
+        return SimulationError(msg, time=t, line=num if what == "line" else None,
+                               node=node if what == "line" else None, point=num if what == "point" else None,
+                               suggested_dtM=h)
+
+    def _instability(self, t: float, row: int, context: str) -> SimulationError:
+        what, num, node = self.state_rows()[row]
+        lay = self.layout
+        if row < lay.n_rows:
+            v = self.y[lay.u_offset + 3 * row: lay.u_offset + 3 * row + 3]
+        else:
+            v = self.y[lay.block_slices(row - lay.n_rows)[1]][:3]
+        speed = float(np.linalg.norm(v)) if np.all(np.isfinite(v)) else math.nan
+        _, limit, _ = stability_report(self.model, self.layout, self.dtM, self.scheme, self._lines_on_seabed(),
+                                       self.scheme_label)
+        suggest = min(0.5 * self.dtM, 0.8 * limit)
+        where = f"line {num} node {node}" if what == "line" else f"{what} {num}"
+        reason = "non-finite state" if not math.isfinite(speed) else f"speed {speed:.3g} m/s > {MAX_NODE_SPEED} m/s"
+        msg = (f"simulation unstable at t = {t:.6g} s {context}: {where}: {reason}. "
+               f"dtM = {self.dtM:.4g} s with {self.scheme_label}; try dtM <= {suggest:.3g} s")
+        return SimulationError(msg, time=t, line=num if what == "line" else None,
+                               node=node if what == "line" else None, point=num if what == "point" else None,
+                               suggested_dtM=suggest)
