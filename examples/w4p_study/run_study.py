@@ -30,8 +30,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from moorline import plot  # noqa: E402
-from moorline.batch import Study, run_sweep  # noqa: E402
 from moorline.post import ScatterDiagram  # noqa: E402
+from moorline.studies import Study, run_sweep  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 FIGURES = HERE.parents[1] / "docs" / "img"

@@ -12,7 +12,7 @@ writes MoorDyn-style output (``<base>.out`` with the OUTPUTS channels, ``<base>_
 line output flags ask) plus a NetCDF file ``<base>.nc`` with everything. Files are written only
 when the run succeeds, each atomically.
 
-``sweep`` runs a parametric study (see :mod:`moorline.batch`); ``fatigue`` post-processes one run
+``sweep`` runs a parametric study (see :mod:`moorline.studies`); ``fatigue`` post-processes one run
 (section stress around the cable, rainflow, S-N damage; see :mod:`moorline.post`).
 
 Exit codes: 0 success, 2 bad input (deck, motion file, study file, arguments), 3 the simulation
@@ -51,8 +51,8 @@ def _setup_logging(verbosity: int, log_file: Path | None = None) -> None:
 
 
 def _load(args):
-    from .coupling import System
     from .io import read_deck
+    from .system import System
 
     model = read_deck(Path(args.deck))
     try:
@@ -219,7 +219,8 @@ def cmd_check(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from .batch import StudyError, SweepError, run_sweep
+    from .errors import StudyError, SweepError
+    from .studies import run_sweep
 
     try:
         res = run_sweep(args.study, out=args.out, workers=args.workers, scheduler=args.scheduler,

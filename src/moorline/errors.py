@@ -45,3 +45,11 @@ class SimulationError(RuntimeError):
         self.point = point
         self.suggested_dtM = suggested_dtM
         super().__init__(message)
+
+
+class StudyError(ValueError):
+    """A study file that cannot be run (unknown key or parameter, missing file, bad value)."""
+
+
+class SweepError(RuntimeError):
+    """Some cases of a sweep failed (the others are stored; running the sweep again retries them)."""

@@ -1,7 +1,7 @@
 """Matplotlib figures for cable design studies.
 
 One run (:func:`moorline.simulate` results): :func:`curvature_envelope`. A sweep
-(:func:`moorline.batch.run_sweep` dataset): :func:`envelopes_along_arc` (curvature, stress, ...
+(:func:`moorline.studies.run_sweep` dataset): :func:`envelopes_along_arc` (curvature, stress, ...
 envelopes per case), :func:`damage_along_arc`, :func:`scatter_heatmap` (the fatigue Hs-Tz matrix)
 and :func:`sensitivity` (how a result depends on each parameter). Every function draws into the
 axes it is given (or a new figure) and returns the axes.

@@ -24,7 +24,7 @@ from moorline.post import (
 )
 from moorline.results import write_netcdf
 
-TINY = Path(__file__).resolve().parents[1] / "batch" / "tiny_cable.dat"
+TINY = Path(__file__).resolve().parents[1] / "studies" / "tiny_cable.dat"
 
 
 def test_cli_fatigue_matches_api(tmp_path, capsys):

@@ -26,7 +26,7 @@ from moorline.io import read_deck
 from moorline.post import SeaState, TubeSection, buoy_motion, cross_section_stress, section_loads
 from moorline.results import Recorder
 
-TINY = Path(__file__).resolve().parents[1] / "batch" / "tiny_cable.dat"
+TINY = Path(__file__).resolve().parents[1] / "studies" / "tiny_cable.dat"
 
 
 def make_ds(r, tension=None, curvature=None):

@@ -1,4 +1,4 @@
-"""Study files and the parameter registry (moorline.batch): what a study may say, the clear
+"""Study files and the parameter registry (moorline.studies): what a study may say, the clear
 errors for what it may not, the registry's setters, and the case keys that resume relies on."""
 
 from __future__ import annotations
@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from moorline.batch import PARAMETERS, Study, StudyError, _apply_parameters, register_parameter
 from moorline.io import read_deck
+from moorline.studies import PARAMETERS, Study, StudyError, register_parameter
+from moorline.studies.parameters import _apply_parameters
 
 HERE = Path(__file__).resolve().parent
 DECK = HERE / "tiny_cable.dat"
@@ -139,8 +140,8 @@ def test_register_parameter_extends_the_registry():
 def test_sea_waves_are_in_phase_with_the_buoy(kind):
     """The waves put on the lines for a sea state have, at the buoy (here at x = 10, y = 5 m, waves
     heading 30 deg), the elevation the buoy heaves with, ramp included."""
-    from moorline.batch import sea_waves
     from moorline.post import SeaState, buoy_motion, wavenumber
+    from moorline.studies import sea_waves
 
     sea = SeaState(2.0, 6.0, kind=kind, heading=30.0, seed=3)
     x0 = np.array([10.0, 5.0, -2.0])

@@ -1,4 +1,4 @@
-"""Parametric sweeps end to end (moorline.batch, ``moorline sweep``), on the 5-segment test cable:
+"""Parametric sweeps end to end (moorline.studies, ``moorline sweep``), on the 5-segment test cable:
 
 - a grid sweep over a small scatter diagram gathers into one Dataset with the parameters as
   dimensions and a summary table; the lifetime damage is the probability-weighted sum of the
@@ -20,8 +20,8 @@ import pytest
 import xarray as xr
 import yaml
 
-from moorline.batch import run_sweep
 from moorline.post import SECONDS_PER_YEAR
+from moorline.studies import run_sweep
 
 DECK = Path(__file__).resolve().parent / "tiny_cable.dat"
 
@@ -133,7 +133,7 @@ def test_current_and_waves_on_lines_act_on_the_cable(tmp_path):
     """One design, one sea state: with the sea's waves on the cable, then also a current, the run
     stays stable and its damage and tension change; the waves are in place only while the sea
     state runs (not during the initial equilibrium, which the three runs share)."""
-    from moorline.batch import Study, run_case
+    from moorline.studies import Study, run_case
 
     d = yaml.safe_load(write_study(tmp_path, {}, scatter=False).read_text())
     out = {}

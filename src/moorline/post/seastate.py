@@ -1,7 +1,7 @@
 """Sea states: scatter diagrams, their probability weighting, and the buoy motion of a sea state.
 
 A sea state acts on a line through the prescribed motion of the buoy it hangs from (and, in a
-sweep, optionally as waves on the line too, :func:`moorline.batch.sea_waves`).
+sweep, optionally as waves on the line too, :func:`moorline.studies.sea_waves`).
 :func:`buoy_motion` makes that motion under a stated RAO assumption:
 the buoy is a small point absorber that follows the water surface, so its hang-off point moves
 with the linear-wave surface particle at the buoy (heave RAO 1, surge RAO coth(k h), no pitch):
