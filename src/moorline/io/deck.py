@@ -2,17 +2,19 @@
 
 The reader works in two stages. :func:`moorline.io.lexer.lex` cuts the text into sections and rows
 (each row keeps its line number and raw text); the builder here turns rows into a
-:class:`~moorline.model.Model` through tables of columns (:class:`Column`), so that every error can
-name the file, the line, the row, the field and what was expected. All bad input raises
-:class:`~moorline.errors.DeckError`; anything else worth knowing is logged on ``moorline.io``.
+:class:`~moorline.model.Model` through the column tables of :mod:`moorline.io.columns`, so that
+every error can name the file, the line, the row, the field and what was expected. All bad input
+raises :class:`~moorline.errors.DeckError`; anything else worth knowing is logged on ``moorline.io``.
 
-Supported: LINE TYPES (10, 11 or 13 columns; 9-column MoorDyn v1 rows), POINTS (9 or 12 column
-layouts, also v1 CONNECTION PROPERTIES), LINES (v2 layout and the v1 layout with the length before
-the end points), OPTIONS (every MoorDyn-C key and the MoorDyn-F aliases), OUTPUTS, and EA/BA/EI
-curve files, seabed bathymetry (MoorDyn-C ``SeafloorFile`` grids and MoorDyn-F depth grids given as
-``WtrDpth``), seabed friction of both MoorDyn flavours, and moorline's own seabed keys
-(``SeabedContact``, ``FrictionModel``, ``kShear``). Rods, bodies, Syrope and failures raise a
-DeckError saying so.
+Supported: LINE TYPES (also LINE DICTIONARY; 10, 11 or 13 columns; 9-column MoorDyn v1 rows), ROD
+TYPES, BODIES, RODS, POINTS (9 or 12 column layouts, also v1 CONNECTION PROPERTIES and NODE
+PROPERTIES), LINES (v2 layout and the v1 layout with the length before the end points), OPTIONS
+(every MoorDyn-C key and the MoorDyn-F aliases; wave and current kinematics with their files),
+OUTPUTS, EA/BA/EI curve files, seabed bathymetry (MoorDyn-C ``SeafloorFile`` grids and MoorDyn-F
+depth grids given as ``WtrDpth``), seabed friction of both MoorDyn flavours, and moorline's own
+seabed keys (``SeabedContact``, ``FrictionModel``, ``kShear``). The CONTROL and EXTERNAL LOADS
+sections (MoorDyn-F only) are skipped with a warning, as MoorDyn-C does; SYROPE IC (the Syrope rope
+model) and FAILURE (line failures) raise a DeckError saying they are not implemented.
 
 MoorDyn v1 LINES rows (``Line LineType UnstrLen NumSegs NodeAnch NodeFair Flags``) are told apart
 from v2 rows (``ID LineType AttachA AttachB UnstrLen NumSegs Outputs``) row by row: a row is v1 when
@@ -25,18 +27,10 @@ from __future__ import annotations
 
 import logging
 import re
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from ..errors import DeckError
 from ..model import (
-    BODY_KIND_WORDS,
-    CONTACT_MODES,
-    FRICTION_MODELS,
-    POINT_KIND_WORDS,
-    Attachment,
     Body,
     BodyKind,
     Curve,
@@ -47,8 +41,25 @@ from ..model import (
     Point,
     PointKind,
     Rod,
-    RodKind,
     RodType,
+)
+from .columns import (
+    BODY_COLUMNS,
+    LINE_COLUMNS,
+    LINE_COLUMNS_V1,
+    LINE_TYPE_COLUMNS,
+    LINE_TYPE_COLUMNS_V1,
+    NOT_ACTED_ON,
+    OPTION_KEYS,
+    OPTION_TABLE,
+    POINT_COLUMNS,
+    POINT_COLUMNS_F,
+    ROD_COLUMNS,
+    ROD_TYPE_COLUMNS,
+    BadField,
+    CurveProblem,
+    is_attachment,
+    looks_like_file,
 )
 from .lexer import Row, Section, lex, parse_number, parse_whole, split_lines, tokenize
 
@@ -62,377 +73,6 @@ _UNSUPPORTED = {
     "FAILURE": "line failures are not implemented",
 }
 _IGNORED = ("CONTROL", "EXTERNAL LOADS")  # MoorDyn-F only; MoorDyn-C ignores them too
-
-
-class _Bad(Exception):
-    """A field that cannot be read: ``text`` is what was expected (or, if ``plain``, the whole story)."""
-
-    def __init__(self, text: str, plain: bool = False):
-        super().__init__(text)
-        self.text = text
-        self.plain = plain
-
-
-class _CurveProblem(Exception):
-    def __init__(self, message: str, line: int | None = None, row: str | None = None):
-        super().__init__(message)
-        self.message, self.line, self.row = message, line, row
-
-
-# ---------------------------------------------------------------------------------- field parsers
-# Each parser takes (token, reader) and returns the value or raises _Bad(expected).
-
-def _num(tok, rd=None, *, cond=None, what="a number"):
-    v = parse_number(tok)
-    if v is None or (cond is not None and not cond(v)):
-        raise _Bad(what)
-    return v
-
-
-def _any(tok, rd=None):
-    return _num(tok)
-
-
-def _pos(tok, rd=None):
-    return _num(tok, cond=lambda v: v > 0, what="a number > 0")
-
-
-def _nonneg(tok, rd=None):
-    return _num(tok, cond=lambda v: v >= 0, what="a number >= 0")
-
-
-def _nonzero(tok, rd=None):
-    return _num(tok, cond=lambda v: v != 0,
-                what="a non-zero number (a negative value -f means f times the end-to-end distance)")
-
-
-def _whole(tok, rd=None):
-    v = parse_whole(tok)
-    if v is None:
-        raise _Bad("a whole number")
-    return v
-
-
-def _flag01(tok, rd=None):
-    v = parse_whole(tok)
-    if v not in (0, 1):
-        raise _Bad("0 or 1")
-    return v
-
-
-def _auto01(tok, rd=None):
-    v = parse_whole(tok)
-    if v not in (-1, 0, 1):
-        raise _Bad("-1 (automatic), 0 or 1")
-    return v
-
-
-def _nsegs(tok, rd=None):
-    v = parse_whole(tok)
-    if v is None or v < 1:
-        raise _Bad("a whole number >= 1")
-    return v
-
-
-def _word(tok, rd=None):
-    return tok
-
-
-def _flags(tok, rd=None):
-    return "" if tok == "-" else tok
-
-
-def _ea(tok, rd):
-    if "|" in tok or tok.upper().startswith("SYROPE"):
-        raise _Bad(f"{tok!r}: the viscoelastic and Syrope rope models (EA_s|EA_d, EA_s|EA_Dc|EA_D_Lm, "
-                   "SYROPE:...) are not supported yet; give EA as a number or a curve file", plain=True)
-    return rd.number_or_curve(tok, "EA", "a number > 0", lambda v: v > 0)
-
-
-def _ba(tok, rd):
-    if "|" in tok:
-        raise _Bad(f"{tok!r}: BA_s|BA_d belongs to the viscoelastic/Syrope models, which are not supported "
-                   "yet; give BA as a number (negative = -zeta) or a curve file", plain=True)
-    return rd.number_or_curve(tok, "BA", "a number (negative = -zeta damping ratio)", None)
-
-
-def _ei(tok, rd):
-    return rd.number_or_curve(tok, "EI", "a number >= 0", lambda v: v >= 0)
-
-
-_POINT_KIND_TEXT = "Fixed/Anchor/Fix, Coupled/Vessel/Ves/Cpld/Fairlead, Free/Point/Connect/Con or Body<n>"
-
-
-def _body_number(up, tok, rd, what):
-    """0-based index of the body named by ``Body<n>...`` (checked against the deck's bodies)."""
-    n = int(re.match(r"BODY(\d+)", up).group(1))
-    nb = len(rd.model.bodies) if rd is not None else 0
-    if not 1 <= n <= nb:
-        raise _Bad(f"{tok!r}: {what} body {n}, but the deck has {nb} bodies (BODIES section)", plain=True)
-    return n - 1
-
-
-def _point_kind(tok, rd=None):
-    """(kind, body index or None) of a point attachment word."""
-    up = tok.upper()
-    if up in POINT_KIND_WORDS:
-        return POINT_KIND_WORDS[up], None
-    if re.fullmatch(r"BODY\d+", up):
-        return PointKind.BODY, _body_number(up, tok, rd, "a point fixed to")
-    if re.fullmatch(r"TURBINE\d+", up):
-        raise _Bad(f"{tok!r}: TURBINE<n> points are a FAST.Farm feature and are not supported", plain=True)
-    raise _Bad(f"a point type word ({_POINT_KIND_TEXT})")
-
-
-_POINT_REF = re.compile(r"(?:P|POINT|C|CON)?(\d+)")
-_ROD_REF = re.compile(r"(?:R|ROD)(\d+)([AB]?)")
-
-
-def _attachment(tok, rd):
-    up = tok.upper()
-    m = _POINT_REF.fullmatch(up)
-    if m:
-        n = int(m.group(1))
-        if not 1 <= n <= rd.n_points:
-            raise _Bad(f"a point number from 1 to {rd.n_points} (there is no point {n}; the deck has "
-                       f"{rd.n_points} points)")
-        return Attachment("point", n - 1)
-    m = _ROD_REF.fullmatch(up)
-    if m:
-        n = int(m.group(1))
-        if not m.group(2):
-            raise _Bad(f"a rod end with its letter, e.g. R{n}A or R{n}B (the end letter is mandatory for rods)")
-        if not 1 <= n <= rd.n_rods:
-            raise _Bad(f"a rod end of a rod from 1 to {rd.n_rods} (there is no rod {n}; the deck has "
-                       f"{rd.n_rods} rods)")
-        return Attachment("rod", n - 1, m.group(2))
-    raise _Bad("a point (n, Pn, POINTn, Cn, CONn) or a rod end (RnA, RnB, RODnA, RODnB)")
-
-
-_ROD_WORDS = {
-    "ANCHOR": RodKind.FIXED, "FIXED": RodKind.FIXED, "FIX": RodKind.FIXED,
-    "PINNED": RodKind.PINNED, "PIN": RodKind.PINNED,
-    "VESSEL": RodKind.COUPLED, "VES": RodKind.COUPLED, "COUPLED": RodKind.COUPLED, "CPLD": RodKind.COUPLED,
-    "VESSELPINNED": RodKind.COUPLED_PINNED, "VESPIN": RodKind.COUPLED_PINNED, "CPLDPIN": RodKind.COUPLED_PINNED,
-    "COUPLEDPINNED": RodKind.COUPLED_PINNED,
-    "POINT": RodKind.FREE, "CON": RodKind.FREE, "FREE": RodKind.FREE,
-}
-
-
-def _rod_kind(tok, rd=None):
-    """(kind, body index or None) of a rod attachment word."""
-    up = tok.upper()
-    if up in _ROD_WORDS:
-        return _ROD_WORDS[up], None
-    m = re.fullmatch(r"BODY\d+(PINNED|PIN)?", up)
-    if m:
-        kind = RodKind.BODY_PINNED if m.group(1) else RodKind.BODY
-        return kind, _body_number(up, tok, rd, "a rod on")
-    raise _Bad("a rod attachment word (Fixed/Anchor, Pinned, Body<n>, Body<n>Pinned, Coupled/Vessel, "
-               "CoupledPinned/VesPin, Free/Point)")
-
-
-def _body_kind(tok, rd=None):
-    return BODY_KIND_WORDS.get(tok.upper(), BodyKind.FREE)
-
-
-def _bars(n_allowed, what, nonneg=True):
-    """Parser of ``a|b|c`` lists with one of the lengths ``n_allowed``."""
-    def parse(tok, rd=None):
-        parts = tok.split("|")
-        vals = [parse_number(x) for x in parts]
-        if any(v is None or (nonneg and v < 0) for v in vals) or len(vals) not in n_allowed:
-            raise _Bad(what)
-        return vals
-    return parse
-
-
-def _segs0(tok, rd=None):
-    v = parse_whole(tok)
-    if v is None or v < 0:
-        raise _Bad("a whole number >= 0")
-    return v
-
-
-def _is_attachment(tok: str, n_points: int) -> bool:
-    up = tok.upper()
-    m = _POINT_REF.fullmatch(up)
-    if m:
-        return 1 <= int(m.group(1)) <= n_points
-    return _ROD_REF.fullmatch(up) is not None
-
-
-# ---------------------------------------------------------------------------------- column tables
-@dataclass(frozen=True)
-class Column:
-    """One column of a table section.
-
-    Attributes
-    ----------
-    name : str
-        Field name as used in messages and in the titles row written by :func:`write_deck`.
-    unit : str
-        Units text for the units row.
-    parse : callable
-        ``parse(token, reader) -> value``.
-    attr : str
-        Keyword of the model object the value goes to.
-    """
-
-    name: str
-    unit: str
-    parse: Callable[[str, Any], Any]
-    attr: str
-
-
-def _c(name, unit, parse, attr=None):
-    return Column(name, unit, parse, attr or name)
-
-
-LINE_TYPE_COLUMNS = (
-    _c("TypeName", "(name)", _word, "name"), _c("Diam", "(m)", _pos, "d"), _c("Mass/m", "(kg/m)", _pos, "w"),
-    _c("EA", "(N)", _ea), _c("BA/-zeta", "(N-s/-)", _ba, "BA"), _c("EI", "(N-m^2)", _ei),
-    _c("Cd", "(-)", _nonneg), _c("Ca", "(-)", _nonneg), _c("CdAx", "(-)", _nonneg),
-    _c("CaAx", "(-)", _nonneg), _c("Cl", "(-)", _nonneg), _c("dF", "(-)", _nonneg), _c("cF", "(-)", _nonneg),
-)
-LINE_TYPE_COLUMNS_V1 = (
-    _c("Name", "(name)", _word, "name"), _c("Diam", "(m)", _pos, "d"),
-    _c("MassDenInAir", "(kg/m)", _pos, "w"),
-    _c("EA", "(N)", _ea), _c("BA/-zeta", "(N-s/-)", _ba, "BA"), _c("Can", "(-)", _nonneg, "Ca"),
-    _c("Cat", "(-)", _nonneg, "CaAx"), _c("Cdn", "(-)", _nonneg, "Cd"), _c("Cdt", "(-)", _nonneg, "CdAx"),
-)
-_POINT_HEAD = (
-    _c("ID", "(#)", _whole), _c("Attachment", "(-)", _point_kind, "kind"), _c("X", "(m)", _any),
-    _c("Y", "(m)", _any), _c("Z", "(m)", _any), _c("Mass", "(kg)", _nonneg, "m"),
-    _c("Volume", "(m^3)", _nonneg, "V"),
-)
-_POINT_FORCE = (_c("FX", "(N)", _any), _c("FY", "(N)", _any), _c("FZ", "(N)", _any))
-_POINT_TAIL = (_c("CdA", "(m^2)", _nonneg), _c("Ca", "(-)", _nonneg))
-POINT_COLUMNS = _POINT_HEAD + _POINT_TAIL
-POINT_COLUMNS_F = _POINT_HEAD + _POINT_FORCE + _POINT_TAIL
-ROD_TYPE_COLUMNS = (
-    _c("TypeName", "(name)", _word, "name"), _c("Diam", "(m)", _pos, "d"), _c("Mass/m", "(kg/m)", _nonneg, "w"),
-    _c("Cd", "(-)", _nonneg), _c("Ca", "(-)", _nonneg), _c("CdEnd", "(-)", _nonneg), _c("CaEnd", "(-)", _nonneg),
-)
-ROD_COLUMNS = (
-    _c("ID", "(#)", _whole), _c("RodType", "(name)", _word, "rod_type"), _c("Attachment", "(#/key)", _rod_kind, "kind"),
-    _c("Xa", "(m)", _any), _c("Ya", "(m)", _any), _c("Za", "(m)", _any), _c("Xb", "(m)", _any), _c("Yb", "(m)", _any),
-    _c("Zb", "(m)", _any), _c("NumSegs", "(-)", _segs0, "N"), _c("RodOutputs", "(-)", _flags, "outputs"),
-)
-BODY_COLUMNS = (
-    _c("ID", "(#)", _whole), _c("Attachment", "(-)", _body_kind, "kind"), _c("X0", "(m)", _any),
-    _c("Y0", "(m)", _any), _c("Z0", "(m)", _any), _c("r0", "(deg)", _any), _c("p0", "(deg)", _any),
-    _c("y0", "(deg)", _any), _c("Mass", "(kg)", _nonneg, "m"),
-    _c("CG*", "(m)", _bars((1, 3), "one number (z of the CG) or x|y|z", nonneg=False), "rCG"),
-    _c("I*", "(kg-m^2)", _bars((1, 3), "one number >= 0 or Ix|Iy|Iz"), "I"),
-    _c("Volume", "(m^3)", _nonneg, "V"),
-    _c("CdA*", "(m^2)", _bars((1, 2, 3, 6), "one number >= 0, trans|rot, x|y|z or six values"), "CdA"),
-    _c("Ca*", "(-)", _bars((1, 3), "one number >= 0 or Cax|Cay|Caz"), "Ca"),
-)
-LINE_COLUMNS = (
-    _c("ID", "(#)", _whole), _c("LineType", "(name)", _word, "line_type"),
-    _c("AttachA", "(#)", _attachment, "end_a"), _c("AttachB", "(#)", _attachment, "end_b"),
-    _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
-    _c("LineOutputs", "(-)", _flags, "outputs"),
-)
-LINE_COLUMNS_V1 = (
-    _c("Line", "(#)", _whole, "ID"), _c("LineType", "(name)", _word, "line_type"),
-    _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
-    _c("NodeAnch", "(#)", _attachment, "end_a"), _c("NodeFair", "(#)", _attachment, "end_b"),
-    _c("Flags/Outputs", "(-)", _flags, "outputs"),
-)
-
-
-# ---------------------------------------------------------------------------------- options
-def _looks_like_file(tok) -> bool:
-    return parse_number(tok) is None and bool(re.search(r"[A-DF-Za-df-z_/\\]", tok))
-
-
-def _depth(tok, rd=None):
-    if _looks_like_file(tok):
-        # a MoorDyn-F depth grid; read in _Reader.read_seabed, the depth becomes its mean
-        return 0.0
-    return _nonneg(tok)
-
-
-def _choice(*words):
-    def parse(tok, rd=None):
-        if tok.lower() not in words:
-            raise _Bad(f"one of {', '.join(words)}")
-        return tok.lower()
-
-    return parse
-
-
-#: (canonical key, aliases, target object, attribute, parser). Keys are compared case-insensitively.
-OPTION_TABLE = (
-    ("writeLog", (), "options", "writeLog", _whole),
-    ("dtM", ("dt",), "options", "dtM", _pos),
-    ("CFL", (), "options", "CFL", _pos),
-    ("tScheme", (), "options", "tScheme", _word),
-    ("g", ("gravity",), "env", "g", _pos),
-    ("rho", ("WtrDnsty", "rhoW"), "env", "rho", _pos),
-    ("WtrDpth", ("depth", "WaterDepth"), "env", "depth", _depth),
-    ("kBot", ("kb",), "env", "kBot", _nonneg),
-    ("cBot", ("cb",), "env", "cBot", _nonneg),
-    ("FrictionCoefficient", (), "env", "mu", _nonneg),
-    ("FricDamp", (), "env", "fric_damp", _nonneg),
-    ("StatDynFricScale", (), "env", "stat_dyn", _pos),
-    ("mu_kT", (), "env", "mu_kT", _nonneg),
-    ("mu_kA", (), "env", "mu_kA", _nonneg),
-    ("mc", (), "env", "mc", _pos),
-    ("cv", (), "env", "cv", _nonneg),
-    ("FrictionModel", (), "env", "friction", _choice(*FRICTION_MODELS)),
-    ("SeabedContact", (), "env", "contact", _choice(*CONTACT_MODES)),
-    ("kShear", (), "env", "kShear", _pos),
-    ("dtIC", ("ICdt",), "options", "dtIC", _pos),
-    ("TmaxIC", ("ICTmax",), "options", "TmaxIC", _nonneg),
-    ("CdScaleIC", ("ICDfac",), "options", "CdScaleIC", _pos),
-    ("threshIC", ("ICthresh",), "options", "threshIC", _pos),
-    ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
-    ("ICNewton", (), "options", "ICNewton", _auto01),
-    ("dtOut", (), "options", "dtOut", _nonneg),
-    ("WriteUnits", (), "options", "WriteUnits", _flag01),
-    ("disableOutput", (), "options", "disableOutput", _flag01),
-)
-
-
-def _equals(x):
-    return lambda v, opts: parse_number(v) == x
-
-
-def _always(v, opts):
-    return True
-
-
-def _never(v, opts):
-    return False
-
-
-#: Keys read but not acted on: canonical key -> (aliases, is_neutral(value, options)).
-#: A neutral value changes nothing and is only logged at debug level; any other value is stored in
-#: ``model.options.not_acted_on`` with one warning.
-NOT_ACTED_ON = {
-    "UnifyCurrentGrid": ((), _equals(1.0)),
-    "fileIC": (("ICfile",), _never),
-    "disableOutTime": ((), _always),
-    "WaterKin": ((), _never),
-    "inertialF": ((), _equals(0.0)),
-    "inertialF_rampT": ((), _always),
-    "OutSwitch": ((), _always),
-}
-
-#: keys handled by _Reader.read_seabed (file names)
-SEABED_FILE_KEYS = ("SeafloorFile",)
-
-_OPTION_KEYS: dict[str, str] = {"seafloorfile": "SeafloorFile", "wavekin": "WaveKin", "currents": "Currents",
-                                 "dtwave": "dtWave"}
-for _key, _aliases, *_ in OPTION_TABLE:
-    for _k in (_key, *_aliases):
-        _OPTION_KEYS[_k.lower()] = _key
-for _key, (_aliases, _) in NOT_ACTED_ON.items():
-    for _k in (_key, *_aliases):
-        _OPTION_KEYS[_k.lower()] = _key
 
 
 # ---------------------------------------------------------------------------------- reader
@@ -466,7 +106,7 @@ class _Reader:
         return DeckError(message, file=self.file, line=row.line if row is not None else line,
                          row=row.text if row is not None else None, field=field)
 
-    def field_error(self, section, row, name, tok, bad: _Bad) -> DeckError:
+    def field_error(self, section, row, name, tok, bad: BadField) -> DeckError:
         if bad.plain:
             msg = f"field {name!r} of {section}: {bad.text}"
         else:
@@ -479,7 +119,7 @@ class _Reader:
         for col, tok in zip(columns, row.tokens, strict=False):
             try:
                 out[col.attr] = col.parse(tok, self)
-            except _Bad as bad:
+            except BadField as bad:
                 raise self.field_error(section, row, col.name, tok, bad) from None
         return out
 
@@ -499,18 +139,18 @@ class _Reader:
         v = parse_number(tok)
         if v is not None:
             if cond is not None and not cond(v):
-                raise _Bad(expected)
+                raise BadField(expected)
             return v
         p = self.base_dir / tok
         if not p.is_file():
             article = "an" if what[0] in "AEIOU" else "a"
-            raise _Bad(f"{expected} or the name of {article} {what} curve file (no such file: {p})")
+            raise BadField(f"{expected} or the name of {article} {what} curve file (no such file: {p})")
         try:
             return _load_curve(p, what)
-        except _CurveProblem as e:
+        except CurveProblem as e:
             where = f"{p}" + (f", line {e.line}" if e.line is not None else "")
             row = f" (row {e.row.strip()!r})" if e.row is not None else ""
-            raise _Bad(f"bad {what} curve file {where}: {e.message}{row}", plain=True) from None
+            raise BadField(f"bad {what} curve file {where}: {e.message}{row}", plain=True) from None
 
     # ----- sections
     def collect(self, sections: list[Section]):
@@ -656,8 +296,8 @@ class _Reader:
             return False
         if parse_number(toks[2]) is None:
             return False
-        return self.v1_types or not (_is_attachment(toks[2], self.n_points)
-                                     and _is_attachment(toks[3], self.n_points))
+        return self.v1_types or not (is_attachment(toks[2], self.n_points)
+                                     and is_attachment(toks[3], self.n_points))
 
     def read_lines(self):
         if self.model.rods or self.model.bodies:
@@ -697,15 +337,15 @@ class _Reader:
             toks = row.tokens
             if len(toks) < 2:
                 tok = toks[0]
-                if tok.lower() in _OPTION_KEYS:
+                if tok.lower() in OPTION_KEYS:
                     raise self.error(f"field {tok!r} of OPTIONS: expected a value before the key (rows are "
                                      f"'value key [comment]'), got only the key", row, tok)
                 raise self.error(f"field 'key' of OPTIONS: expected a key after the value {tok!r} (rows are "
                                  "'value key [comment]')", row, "key")
             value, key = toks[0], toks[1]
-            canon = _OPTION_KEYS.get(key.lower())
+            canon = OPTION_KEYS.get(key.lower())
             if canon is None:
-                if value.lower() in _OPTION_KEYS:
+                if value.lower() in OPTION_KEYS:
                     raise self.error(f"field {value!r} of OPTIONS: expected 'value key', got the key first "
                                      f"({value!r} then {key!r})", row, value)
                 log.warning("%s, line %d: unknown option %r ignored", self.file, row.line, key)
@@ -720,7 +360,7 @@ class _Reader:
             value, row, typed = given[key]
             try:
                 v = parse(value, self)
-            except _Bad as bad:
+            except BadField as bad:
                 raise self.field_error("OPTIONS", row, typed, value, bad) from None
             setattr(self.model.env if target == "env" else self.model.options, attr, v)
             self.option_rows[key] = row
@@ -785,7 +425,7 @@ class _Reader:
         env = self.model.env
         for key, reader, what in (("SeafloorFile", read_seafloor_grid, "MoorDyn-C seafloor grid"),
                                   ("WtrDpth", read_depth_grid, "MoorDyn-F depth grid")):
-            if key not in given or not _looks_like_file(given[key][0]):
+            if key not in given or not looks_like_file(given[key][0]):
                 continue
             value, row, typed = given[key]
             if env.bathymetry is not None:
@@ -909,7 +549,7 @@ def _load_curve(path: Path, what: str) -> Curve:
     try:
         text = path.read_bytes().decode("utf-8", errors="replace")
     except OSError as e:
-        raise _CurveProblem(f"cannot read the file: {e.strerror or e}") from e
+        raise CurveProblem(f"cannot read the file: {e.strerror or e}") from e
     xs: list[float] = []
     ys: list[float] = []
     last_line = 0
@@ -920,19 +560,19 @@ def _load_curve(path: Path, what: str) -> Curve:
         if not toks:
             continue
         if len(toks) < 2:
-            raise _CurveProblem("expected two numbers 'x y', got one value", lineno, raw)
+            raise CurveProblem("expected two numbers 'x y', got one value", lineno, raw)
         x, y = parse_number(toks[0]), parse_number(toks[1])
         if x is None or y is None:
             bad = toks[0] if x is None else toks[1]
-            raise _CurveProblem(f"expected two numbers 'x y', got {bad!r}", lineno, raw)
+            raise CurveProblem(f"expected two numbers 'x y', got {bad!r}", lineno, raw)
         if xs and x <= xs[-1]:
-            raise _CurveProblem(f"expected x values strictly increasing, got {x:g} after {xs[-1]:g} "
+            raise CurveProblem(f"expected x values strictly increasing, got {x:g} after {xs[-1]:g} "
                                 f"(line {last_line})", lineno, raw)
         xs.append(x)
         ys.append(y)
         last_line = lineno
     if len(xs) < 2:
-        raise _CurveProblem(f"expected at least two 'x y' rows after the three header lines, got {len(xs)}")
+        raise CurveProblem(f"expected at least two 'x y' rows after the three header lines, got {len(xs)}")
     if len(xs) > CURVE_MAX_POINTS:
         log.warning("%s: %s curve has %d points; MoorDyn accepts at most %d", path, what, len(xs),
                     CURVE_MAX_POINTS)
@@ -965,7 +605,7 @@ def read_curve(path, what: str = "curve") -> Curve:
     path = Path(path)
     try:
         return _load_curve(path, what)
-    except _CurveProblem as e:
+    except CurveProblem as e:
         raise DeckError(f"{what} curve: {e.message}", file=path, line=e.line, row=e.row) from None
 
 
