@@ -1,24 +1,39 @@
 """moorline: lumped-mass mooring line and dynamic power cable simulation.
 
-Package layout and the direction of its dependencies (keep it):
+Package layout and the direction of its dependencies (keep it; ``tests/unit/test_house.py``
+checks it):
 
-    model/       plain descriptions (Model, LineType, Point, Line, Environment, Options)
-    io/          MoorDyn v2 decks and output tables              -> model
-    core/        numba kernels, arrays in and out                 -> numpy, numba (core.layout -> model)
-    simulate.py  output-interval loop, progress, instability checks -> core, model
-    coupling.py  System: the outer-program interface               -> core, model, io
-    results.py   xarray Datasets and MoorDyn-style writers         -> numpy, xarray
-    cli.py       the ``moorline`` command                          -> everything above
+    errors.py      the exceptions every layer raises                   -> nothing
+    model/         plain descriptions (Model, LineType, Point, Line, Rod, Body, Environment,
+                   Options, waves and currents)                         -> numpy
+    io/            MoorDyn v2 decks (lexer, column tables, builder, writer), output tables,
+                   bathymetry and wave/current files                    -> model, errors
+    core/          numba kernels, arrays in and out: layout, lines, seabed, rigid bodies,
+                   water kinematics, rhs, time schemes, implicit solver and its Jacobian, the
+                   dynamic model's static kernels                       -> numpy, numba (and model,
+                                                                           where it builds arrays)
+    quasistatic/   the quasi-static line model (elastic catenary)       -> model, core
+    system/        the runtime: System (init / step / advance_to), object views, initial
+                   conditions                                           -> core, quasistatic, model, io
+    motion.py      prescribed coupled motions                           -> core
+    results.py     xarray Datasets and MoorDyn-style writers            -> numpy, xarray
+    simulate.py    output-interval loop, progress, instability checks   -> system, results
+    post/          fatigue: section loads, stress, rainflow, S-N, Miner -> numpy, xarray
+    studies/       parametric sweeps: spec, parameters, case runner, executors
+                                                                        -> simulate, post, system, io
+    plot.py        figures                                              -> post
+    cli.py         the ``moorline`` command                             -> everything above
+    coupling.py, batch.py   old import paths of system/ and studies/ (re-exports only)
 
-Nothing below imports from a layer above it.
+Nothing imports from a layer above it, and no two modules import each other.
 """
 
 __version__ = "0.1.0"
 
-from .coupling import System  # noqa: E402
 from .errors import DeckError, SimulationError  # noqa: E402
 from .model import Model  # noqa: E402
 from .motion import Trajectory  # noqa: E402
 from .simulate import simulate  # noqa: E402  (the function shadows its module's name on purpose)
+from .system import System  # noqa: E402
 
 __all__ = ["DeckError", "Model", "SimulationError", "System", "Trajectory", "__version__", "simulate"]
