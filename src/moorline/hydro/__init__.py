@@ -1,0 +1,1 @@
+"""Frequency-domain hydrodynamics of floating bodies (linear potential flow)."""
