@@ -158,7 +158,8 @@ def _detect_period_column(first_col, limits, out_info, path):
 
 
 def read_wamit(stem, rho: float = 1025.0, g: float | None = None, *, length_scale: float = 1.0,
-               period_column: str = "auto", cog=None, mass=None, reference_point=None, body_names=None):
+               period_column: str = "auto", cog=None, mass=None, reference_point=None, body_names=None,
+               displaced_volume=None, center_of_buoyancy=None):
     """Read a WAMIT first-order set (.1, .3, .hst; .3fk, .3sc and .out where present) into a coefficient Dataset.
 
     Parameters
@@ -184,6 +185,10 @@ def read_wamit(stem, rho: float = 1025.0, g: float | None = None, *, length_scal
         Body reference points [m] when there is no .out file (default origin, with a warning).
     body_names : list of str, optional
         Default ``body1``, ``body2``, ...
+    displaced_volume : float or array (n_body,), optional
+        [m^3], overriding or supplying what a .out file gives (e.g. HydroDyn's PtfmVol0 when there is no .out).
+    center_of_buoyancy : array (3,) or (n_body, 3), optional
+        [m], global frame, likewise.
 
     Returns
     -------
@@ -364,6 +369,11 @@ def read_wamit(stem, rho: float = 1025.0, g: float | None = None, *, length_scal
                         "unknown (NaN), water depth taken as infinite", pout)
     if reference_point is not None:
         ref = np.broadcast_to(np.asarray(reference_point, dtype=float).reshape(-1, 3), (n_body, 3)).copy()
+
+    if displaced_volume is not None:
+        vol = np.broadcast_to(np.asarray(displaced_volume, dtype=float).reshape(-1), (n_body,)).copy()
+    if center_of_buoyancy is not None:
+        cob = np.broadcast_to(np.asarray(center_of_buoyancy, dtype=float).reshape(-1, 3), (n_body, 3)).copy()
 
     # ---- weight terms out of the stiffness ----------------------------------------------------------------
     if cog is not None:
