@@ -41,7 +41,7 @@ MESH = dict(n_meridian=40, n_theta=64)  # 40 panels pole to waterline, 64 around
 
 @pytest.fixture(scope="module")
 def hemisphere(tmp_path_factory):
-    ka = np.union1d(KA_HEAVE, KA_SURGE)
+    ka = np.union1d(np.union1d(KA_HEAVE, KA_SURGE), np.linspace(0.02, 2.0, 23))
     t0 = time.perf_counter()
     ds = compute_coefficients(mesh_hemisphere(1.0, **MESH), omega=np.sqrt(ka * G), rho=RHO, g=G,
                               cache_dir=tmp_path_factory.mktemp("cache"))
@@ -71,14 +71,39 @@ def test_hulme_hemisphere(hemisphere, dof, ka, a_ref, b_ref):
 def test_hemisphere_limits_and_hydrostatics(hemisphere):
     """Infinite-frequency heave added mass of the hemisphere tends to 0.5 (Hulme) within 2 %; C33 = rho g pi a^2
     within 0.5 %; buoyancy-only roll stiffness about the centre is rho g (pi a^4/4 - 2/3 pi a^3 * 3a/8) = 0
-    to 0.3 % of either cancelling term rho g pi a^4/4 (measured 0.19 %: the panel polygon); the displaced volume is 2/3 pi a^3 within 0.5 %; the run takes seconds."""
+    to 0.3 % of either cancelling term rho g pi a^4/4 (measured 0.19 %: the panel polygon); the displaced
+    volume is 2/3 pi a^3 within 0.5 %; the run takes seconds."""
     m = RHO * 2 / 3 * np.pi
-    assert hemisphere.added_mass_inf.sel(radiating_dof="Heave", influenced_dof="Heave") / m == pytest.approx(0.5, rel=2e-2)
+    a33_inf = float(hemisphere.added_mass_inf.sel(radiating_dof="Heave", influenced_dof="Heave")) / m
+    assert a33_inf == pytest.approx(0.5, rel=2e-2)
     C = matrix(hemisphere.hydrostatic_stiffness)
     assert C[2, 2] == pytest.approx(RHO * G * np.pi, rel=5e-3)
     assert abs(C[3, 3]) < 3e-3 * RHO * G * np.pi / 4
     assert float(hemisphere.displaced_volume[0]) == pytest.approx(2 / 3 * np.pi, rel=5e-3)
     assert hemisphere.attrs["test_seconds"] < 20
+
+
+def test_hemisphere_irf_round_trip_and_state_space(hemisphere):
+    """Heave of the hemisphere, band K a = 0.02-2 (B33 at the top is 54 % of its peak, so the taper matters):
+    B and A rebuilt from K (T = 100 s) within 2 % of their peaks for K a >= 0.2 (measured B 0.1 %, A 1.7 %); below,
+    A is 2.1 % off at K a = 0.1 whatever T (Capytaine's low-frequency A33, with its k log k behaviour, is not
+    matched by B linear between the samples), hence 2.5 % over the whole band; the state-space
+    fit is stable, passive, and its kernel within 2 % (relative L2) of K. Surge is not checked here: B11 is still
+    97 % of its peak at K a = 2, so this band cannot carry its impulse response (A11 rebuilt 10 % off)."""
+    from moorline.hydro import coefficients_from_irf, fit_state_space, impulse_response
+    t = np.arange(0.0, 100.0, 0.01)
+    K = impulse_response(hemisphere, t)
+    w = hemisphere.omega.values
+    A, B = coefficients_from_irf(K, t, w, hemisphere.added_mass_inf)
+    above = w ** 2 / G >= 0.2
+    for ref, got in ((hemisphere.added_mass.values, A), (hemisphere.radiation_damping.values, B)):
+        assert np.abs(got[above, 2, 2] - ref[above, 2, 2]).max() <= 0.02 * np.abs(ref[:, 2, 2]).max()
+        assert np.abs(got[:, 2, 2] - ref[:, 2, 2]).max() <= 0.025 * np.abs(ref[:, 2, 2]).max()
+    fit = fit_state_space(hemisphere, t=t)
+    heave = [p for p in fit.pairs if p.i == p.j == 2][0]
+    assert np.all(np.linalg.eigvals(heave.A).real < 0)
+    assert heave.error <= 0.02
+    assert fit.passivity_report.passive
 
 
 def test_cache_hit_identical_and_key_changes(tmp_path):

@@ -212,10 +212,10 @@ def test_volturnus_reads_and_hydrostatics():
             continue  # above water, or a panel of the interior free-surface lid (the file includes one)
         for a, b, c in (q[[0, 1, 2]], q[[0, 2, 3]]):
             nz = 0.5 * np.cross(b - a, c - a)[2]
-            mean_sq = lambda k: (a[k] ** 2 + b[k] ** 2 + c[k] ** 2 + a[k] * b[k] + b[k] * c[k] + c[k] * a[k]) / 6  # noqa: E731
+            sq = (a ** 2 + b ** 2 + c ** 2 + a * b + b * c + c * a) / 6  # mean of x_k^2 over the triangle
             vol += nz * (a[2] + b[2] + c[2]) / 3
-            iyy -= nz * mean_sq(1)
-            vzb += nz * mean_sq(2) / 2
+            iyy -= nz * sq[1]
+            vzb += nz * sq[2] / 2
     sign = np.sign(vol)
     vol, iyy, vzb = sign * vol, sign * iyy, sign * vzb
     assert vol == pytest.approx(20206.3, rel=1e-2)

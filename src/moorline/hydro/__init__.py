@@ -14,8 +14,17 @@ only inside the functions of ``bem`` that need it):
     rao          mass matrix, impedance, RAOs, constrained two-body PTO -> dataset, excitation
 """
 
-from .bem import compute_coefficients, from_capytaine, load_mesh, mesh_axisymmetric, mesh_cylinder, mesh_hemisphere
-from .bem import read_capytaine, read_gdf, write_netcdf
+from .bem import (
+    compute_coefficients,
+    from_capytaine,
+    load_mesh,
+    mesh_axisymmetric,
+    mesh_cylinder,
+    mesh_hemisphere,
+    read_capytaine,
+    read_gdf,
+    write_netcdf,
+)
 from .dataset import (
     HydroFileError,
     build_dataset,

@@ -309,7 +309,7 @@ def cache_key(meshes, *, lids, omega, wave_direction, water_depth, rho, g, rotat
     depth, rho, g, rotation centres, body names, Capytaine version, cache format)."""
     cpt = _cpt()
     h = hashlib.sha256()
-    for mesh, lid in zip(meshes, lids):
+    for mesh, lid in zip(meshes, lids, strict=True):
         v, f = _mesh_arrays(mesh)
         h.update(np.round(v, 12).tobytes())
         h.update(f.tobytes())
@@ -347,7 +347,8 @@ def compute_coefficients(meshes, *, omega, wave_direction=(0.0,), water_depth=np
         Body names (default ``body1``...; one body keeps plain DOF labels).
     lid : bool or float or list
         Lid against irregular frequencies: False, True (at z = 0) or the z [m] of the lid (just below 0 is
-        common), per body or for all.
+        common), per body or for all. A rotation-symmetric hull is merged first (Capytaine 3.0.0 ignores a lid on
+        a RotationSymmetricMesh without a word), so a lid costs the symmetry speed-up.
     infinite_frequency : bool
         Also solve omega = inf for added_mass_inf (Capytaine supports it in deep water; in finite depth the
         attempt is made and, if refused, A_inf is estimated by Ogilvie's relation with a warning).
@@ -388,11 +389,15 @@ def compute_coefficients(meshes, *, omega, wave_direction=(0.0,), water_depth=np
     log.info("compute_coefficients: cache miss %s: running Capytaine %s", key[:12], cpt.__version__)
     t0 = time.perf_counter()
     bodies = []
-    for mesh, name, c, lid_b in zip(meshes, names, rc, lids):
+    for mesh, name, c, lid_b in zip(meshes, names, rc, lids, strict=True):
         hull = mesh.immersed_part(water_depth=None if np.isinf(water_depth) else water_depth)
         lid_mesh = None
         if lid_b is not False and lid_b is not None:
             z = 0.0 if lid_b is True else float(lid_b)
+            if isinstance(hull, cpt.RotationSymmetricMesh):
+                # Capytaine 3.0.0 silently ignores a lid on a rotation-symmetric hull (same result as without)
+                log.info("compute_coefficients: lid requested: rotation symmetry of %s dropped", name)
+                hull = hull.merged()
             lid_mesh = hull.generate_lid(z=z)
         bodies.append(cpt.FloatingBody(mesh=hull, lid_mesh=lid_mesh, dofs=cpt.rigid_body_dofs(rotation_center=c),
                                        center_of_mass=c, name=name))

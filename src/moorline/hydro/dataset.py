@@ -177,7 +177,8 @@ def build_dataset(*, omega, wave_direction, body_names, added_mass, radiation_da
         "excitation_force": (exc_dims, np.asarray(excitation_force, dtype=complex)),
         "hydrostatic_stiffness": (("influenced_dof", "radiating_dof"), np.asarray(hydrostatic_stiffness, dtype=float)),
         "displaced_volume": (("body",), np.asarray(displaced_volume, dtype=float).reshape(-1)),
-        "center_of_buoyancy": (("body", "space_coordinate"), np.asarray(center_of_buoyancy, dtype=float).reshape(-1, 3)),
+        "center_of_buoyancy": (("body", "space_coordinate"),
+                               np.asarray(center_of_buoyancy, dtype=float).reshape(-1, 3)),
     }
     if added_mass_zero is not None:
         data["added_mass_zero"] = (mat_dims, rad(added_mass_zero))

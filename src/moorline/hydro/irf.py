@@ -158,8 +158,8 @@ def impulse_response(ds: xr.Dataset, t, *, taper: float = 0.5, passive: bool = T
     W = _linear_cos_weights(nodes, t)
     K = (2.0 / np.pi) * np.einsum("tn,nij->jit", W, vals)
     da = xr.DataArray(K, dims=("radiating_dof", "influenced_dof", "time"),
-                      coords={"radiating_dof": ds["radiating_dof"].values, "influenced_dof": ds["influenced_dof"].values,
-                              "time": t},
+                      coords={"radiating_dof": ds["radiating_dof"].values,
+                              "influenced_dof": ds["influenced_dof"].values, "time": t},
                       name="radiation_impulse_response",
                       attrs={"units": "radiation_damping units per s", "taper": taper,
                              "damping_projection_change": change,

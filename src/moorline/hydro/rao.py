@@ -119,7 +119,8 @@ class LinearPTO:
 
 def _interp_matrix(w, wd, M):
     flat = M.reshape(M.shape[0], -1)
-    return np.stack([np.interp(w, wd, flat[:, k]) for k in range(flat.shape[1])], axis=-1).reshape((w.size,) + M.shape[1:])
+    out = np.stack([np.interp(w, wd, flat[:, k]) for k in range(flat.shape[1])], axis=-1)
+    return out.reshape((w.size,) + M.shape[1:])
 
 
 def impedance(ds: xr.Dataset, mass, omega=None, *, damping=None, stiffness=None) -> tuple[np.ndarray, np.ndarray]:

@@ -286,10 +286,11 @@ def _enforce_passivity(fit: StateSpaceFit, w_low: float, *, max_iter: int = 40) 
     """Raise the fitted damping matrix to positive semi-definite by first-order diagonal terms.
 
     While the smallest scaled eigenvalue lambda (see :meth:`StateSpaceFit.passivity`) is negative, at its
-    frequency w* every fitted diagonal pair i taking part in its eigenvector (u_i^2 >= 0.01) gets a term r_i/(s + a) with a = max(w*, w_low) (w_low the lowest
-    computed frequency of the data, so that a correction below the band does not leave a slowly decaying tail) and r_i chosen to add 1.05 |lambda| D_i of damping at w*. Such a term has positive damping
-    r a/(a^2 + w^2) at every frequency, so it never makes another frequency worse; the kernel of pair i changes
-    by r_i exp(-a t), which is included in the reported errors.
+    frequency w* every fitted diagonal pair i taking part in its eigenvector (u_i^2 >= 0.01) gets a term
+    r_i/(s + a) with a = max(w*, w_low) (w_low the lowest computed frequency of the data, so that a correction
+    below the band does not leave a slowly decaying tail) and r_i chosen to add 1.05 |lambda| D_i of damping at
+    w*. Such a term has positive damping r a/(a^2 + w^2) at every frequency, so it never makes another frequency
+    worse; the kernel of pair i changes by r_i exp(-a t), which is included in the reported errors.
     """
     diag = {p.i: p for p in fit.pairs if p.i == p.j}
     rep = fit.passivity()
@@ -327,7 +328,8 @@ def _enforce_passivity(fit: StateSpaceFit, w_low: float, *, max_iter: int = 40) 
 
 
 def fit_state_space(source, *, t=None, rtol: float = 0.002, max_order: int = 24, skip_tol: float = 1e-3,
-                    dt_fit: float | None = None, taper: float = 0.5, passive_data: bool = True, enforce_passivity: bool = True,
+                    dt_fit: float | None = None, taper: float = 0.5, passive_data: bool = True,
+                    enforce_passivity: bool = True,
                     added_mass_inf=None) -> StateSpaceFit:
     """Fit a state-space realisation to every non-negligible radiation kernel pair.
 

@@ -153,7 +153,8 @@ def _detect_period_column(first_col, limits, out_info, path):
         frq_score = np.sum(np.abs(np.diagonal(a_hi) - np.diagonal(limits["inf"])) / d) + \
             np.sum(np.abs(np.diagonal(a_lo) - np.diagonal(limits["zero"])) / d)
         mode = "period" if per_score <= frq_score else "frequency"
-        return mode, f"A(first column) approaches A_inf and A_0 at the matching ends ({per_score:.3g} vs {frq_score:.3g})"
+        return mode, (f"A(first column) approaches A_inf and A_0 at the matching ends "
+                      f"({per_score:.3g} vs {frq_score:.3g})")
     return "period", "no .out file and no zero/infinite limits to judge by: WAMIT's default (period)"
 
 
@@ -219,7 +220,6 @@ def read_wamit(stem, rho: float = 1025.0, g: float | None = None, *, length_scal
     rad_rows = []
     order: list[float] = []
     last_block = None
-    limits: dict = {}
     max_index = 0
     for n, vals, raw in _rows(p1, (4, 5), "PER I J Abar [Bbar]"):
         per = vals[0]
@@ -253,7 +253,7 @@ def read_wamit(stem, rho: float = 1025.0, g: float | None = None, *, length_scal
     abar = np.zeros((len(order), ndof, ndof))
     bbar = np.zeros((len(order), ndof, ndof))
     lim_raw: dict = {}
-    for n, per, is_limit, i, j, a, b in rad_rows:
+    for _n, per, is_limit, i, j, a, b in rad_rows:
         present[i] = present[j] = True
         if is_limit:
             key = _limit_key(per, period_column)
