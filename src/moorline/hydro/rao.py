@@ -39,7 +39,8 @@ def mass_matrix(m, cog, inertia, ref_point) -> np.ndarray:
     cog : array (3,) or (n_body, 3)
         Centres of gravity [m], global frame.
     inertia : array (3, 3) or (n_body, 3, 3)
-        Inertia tensors about the centre of gravity [kg m^2] (a length-3 vector is taken as the diagonal).
+        Inertia tensors about the centre of gravity [kg m^2]; (3,) for one body or (n_body, 3) for several give
+        the diagonals.
     ref_point : array (3,) or (n_body, 3)
         Reference points the DOFs are about [m].
 
@@ -54,10 +55,10 @@ def mass_matrix(m, cog, inertia, ref_point) -> np.ndarray:
     cog = np.asarray(cog, dtype=float).reshape(n, 3)
     ref = np.broadcast_to(np.asarray(ref_point, dtype=float).reshape(-1, 3), (n, 3))
     inertia = np.asarray(inertia, dtype=float)
-    if inertia.shape[-1] == 3 and inertia.ndim in (1, 2) and inertia.shape != (3, 3):
-        inertia = np.array([np.diag(v) for v in inertia.reshape(n, 3)])
-    elif inertia.shape == (3,):
+    if inertia.shape == (3,) and n == 1:
         inertia = np.diag(inertia)[None]
+    elif inertia.shape == (n, 3) and n > 1:
+        inertia = np.array([np.diag(v) for v in inertia])
     inertia = inertia.reshape(n, 3, 3)
     out = np.zeros((6 * n, 6 * n))
     for b in range(n):
