@@ -158,6 +158,31 @@ def test_netcdf_round_trip_and_capytaine_layout(tmp_path):
         np.testing.assert_array_equal(back[var].values, mem[var].values)
 
 
+def test_capytaine_weight_terms_removed():
+    """A Capytaine stiffness computed with the centre of mass 0.3 m below the rotation centre (so it holds
+    -m g (z_g - z_c) in C44/C55) comes out equal to the buoyancy-only one (centre of mass at the rotation centre)
+    to 1e-9 rho g."""
+    mesh = cpt.mesh_vertical_cylinder(radius=1.0, length=2.0, center=(0, 0, -0.5), resolution=(3, 12, 6))
+    hull = mesh.immersed_part()
+    res = {}
+    for zg in (-0.3, 0.0):
+        body = cpt.FloatingBody(mesh=hull, dofs=cpt.rigid_body_dofs(rotation_center=(0, 0, 0)),
+                                center_of_mass=(0.1, 0, zg), name="cyl")
+        test = __import__("xarray").Dataset(coords={"omega": [1.0, np.inf], "wave_direction": [0.0],
+                                                    "radiating_dof": list(body.dofs), "rho": RHO})
+        ds = cpt.BEMSolver().fill_dataset(test, body, hydrostatics=False)
+        ds["hydrostatic_stiffness"] = body.compute_hydrostatic_stiffness(rho=RHO, g=G)
+        ds["disp_mass"] = RHO * body.disp_volume
+        ds["center_of_buoyancy"] = (("space_coordinate",), body.center_of_buoyancy)
+        ds = ds.assign_coords(center_of_mass=(("space_coordinate",), [0.1, 0.0, zg]))
+        res[zg] = ds
+    assert not np.allclose(res[-0.3].hydrostatic_stiffness.values, res[0.0].hydrostatic_stiffness.values)
+    a, b = from_capytaine(res[-0.3]), from_capytaine(res[0.0])
+    np.testing.assert_allclose(a.hydrostatic_stiffness.values, b.hydrostatic_stiffness.values, atol=1e-9 * RHO * G)
+    c = matrix(b.hydrostatic_stiffness)
+    assert c[3, 5] == pytest.approx(0.0, abs=1e-9 * RHO * G)  # x_g - x_c weight term in C46 removed too
+
+
 def test_transform_reference_against_capytaine(tmp_path):
     """Coefficients computed about (0,0,0) and moved to (0.3,-0.2,-0.4) equal those Capytaine computes about that
     point (radiation 1e-6 of the largest entry, excitation likewise, buoyancy stiffness 1e-9 rho g), and moving
