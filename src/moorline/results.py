@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from . import __version__
+from .core.layout import FC_NAMES
 
 
 def model_hash(model) -> str:
@@ -69,7 +70,8 @@ class Recorder:
             "segment_tension",
             "segment_strain", "line_tension_a", "line_tension_b", "point_position", "point_velocity",
             "point_force", "coupled_position", "coupled_force", "rod_end_position", "rod_force", "body_pose",
-            "body_velocity", "body_force", "probe_kinematics")}
+            "body_velocity", "body_force", "probe_kinematics", "float_force", "float_displacement", "joint_slide",
+            "joint_slide_rate", "pto_power")}
 
     def record(self) -> None:
         s = self.system
@@ -100,6 +102,14 @@ class Recorder:
             d["body_pose"].append(np.array([b.pose() for b in s.bodies]))
             d["body_velocity"].append(np.concatenate([w.bv, w.bw], axis=1))
             d["body_force"].append(w.b6F.copy())
+        fl = s.layout.rigid.fl
+        if fl.body.size:
+            d["float_force"].append(w.fw.F.copy())
+            d["float_displacement"].append(w.fw.xi.copy())
+            if fl.jt_child.size:
+                d["joint_slide"].append(w.fw.jt[:, 0].copy())
+                d["joint_slide_rate"].append(w.fw.jt[:, 1].copy())
+                d["pto_power"].append(w.fw.jt[:, 2].copy())
 
     def to_dataset(self) -> xr.Dataset:
         s = self.system
@@ -138,6 +148,14 @@ class Recorder:
         add("body_velocity", ("body", "dof6"), {"units": "m/s, rad/s", "long_name": "velocity and angular velocity"})
         add("body_force", ("body", "dof6"), {"units": "N, N m", "long_name": "net force and moment about the "
                                              "reference point"})
+        add("float_force", ("floating_body", "force_component", "dof6"),
+            {"units": "N, N m", "long_name": "potential-flow and extra loads on each floating body about its "
+                                             "reference point (radiation: memory part; A_inf acts through the mass)"})
+        add("float_displacement", ("floating_body", "dof6"),
+            {"units": "m, rad", "long_name": "displacement from the mean pose (hydrostatics are linear in it)"})
+        add("joint_slide", ("joint",), {"units": "m", "long_name": "slide of the joint's child along its axis"})
+        add("joint_slide_rate", ("joint",), {"units": "m/s"})
+        add("pto_power", ("joint",), {"units": "W", "long_name": "power absorbed by the PTO damper c s'^2"})
         if "probe_kinematics" in d:
             pk = d.pop("probe_kinematics")
             d["probe_velocity"], d["probe_acceleration"] = pk[:, :, 0:3], pk[:, :, 3:6]
@@ -175,6 +193,12 @@ class Recorder:
         if s.bodies:
             coords["body"] = ("body", np.arange(1, len(s.bodies) + 1))
             coords["pose"] = ("pose", ["x", "y", "z", "roll", "pitch", "yaw"])
+        fl = lay.rigid.fl
+        if fl.body.size:
+            coords["floating_body"] = ("floating_body", fl.body + 1, {"long_name": "deck body number"})
+            coords["force_component"] = ("force_component", list(FC_NAMES))
+            if fl.jt_child.size:
+                coords["joint"] = ("joint", np.arange(1, fl.jt_child.size + 1))
         opts = asdict(s.model.options)
         attrs = {
             "title": f"moorline simulation of {s.model.source.name if s.model.source else 'a Python-built model'}",

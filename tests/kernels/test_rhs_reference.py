@@ -407,7 +407,11 @@ def run_kernel(model, y, t, motion, kin, cd_scale):
     W = layout.new_work()
     # everything rhs must compute is poisoned first: a value it forgets to (re)set shows up as NaN
     for name in W._fields:
-        if name not in ("U", "Ud", "zeta", "pU"):
+        if name == "fw":  # the floating-body work arrays (none float here)
+            for a in W.fw:
+                if a.dtype == float:
+                    a[...] = np.nan
+        elif name not in ("U", "Ud", "zeta", "pU"):
             getattr(W, name)[...] = np.nan
     W.U[...] = kin["U"]
     W.Ud[...] = kin["Ud"]

@@ -49,6 +49,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .floating import floating_after_step
 from .integrate import RHO_INF, check_state, knot_step, step_end
 from .jacobian import (
     N_STAT,
@@ -188,7 +189,7 @@ def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
-    newmark(IW.y0, IW.a0, IW.a1, h, par, y, n3, n6, IW.G)
+    newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, W, IW.G)
     rhs(t + h, y, IW.f0, L, R, P, E, B, Mo, W, par[8], piece)
     IW.stat[S_NRHS] += 1
     am = par[0]
@@ -344,7 +345,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         else:
             conv = theta < 1.0 and theta * big <= (1.0 - theta) * tol
         if conv or big <= 1e-3 * tol:
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R.dims[0], R.dims[1], IW.G)
+            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, W, IW.G)
             # the derivative at the end of the step as the scheme's equation gives it (the last
             # evaluation was one increment earlier); af <= 1/2
             am = par[0]
@@ -430,6 +431,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
             continue
         stat[S_NSTEP] += 1
         t = step_end(Mo, j, t, h, t_end, tol)
+        floating_after_step(t, y, R, W)
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             stat[S_H] = h_cur

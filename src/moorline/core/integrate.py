@@ -15,6 +15,7 @@ from enum import IntEnum
 import numpy as np
 from numba import njit
 
+from .floating import floating_after_step
 from .rhs import motion_piece, rhs
 
 log = logging.getLogger("moorline.core")
@@ -251,6 +252,7 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vma
         step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
         n_steps += 1
         t = step_end(Mo, j, t, h, t_end, tol)
+        floating_after_step(t, y, R, W)
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             return t, bad, n_steps, piece

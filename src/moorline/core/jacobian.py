@@ -27,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from .floating import radiation_trapezoid
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
 from .rhs import rhs
 from .seabed import contact_slope, seabed_at
@@ -192,6 +193,17 @@ def dependency_graph(layout: Layout) -> list[set]:
         for ru in ([int(R.rod_row[k])] if R.rod_row[k] >= 0 else []) + \
                   ([n3 + int(R.rod_blk[k])] if R.rod_blk[k] >= 0 else []):
             junction.setdefault(bu, set()).update(junction.get(ru, set()) | {ru})
+    # floating bodies solved together (coupling added mass, radiation, joints): each sees what
+    # every member of its group sees
+    fl = R.fl
+    for g in range(len(fl.grp_ptr) - 1):
+        units = [n3 + int(R.body_blk[fl.body[f]]) for f in fl.grp_members[fl.grp_ptr[g]:fl.grp_ptr[g + 1]]]
+        if len(units) > 1:
+            shared = set(units)
+            for u in units:
+                shared |= junction.get(u, set())
+            for u in units:
+                junction[u] = shared
     for u, near in junction.items():
         link(near | {u})
     return adj
@@ -326,8 +338,12 @@ def displace(y0, dq, y, n3, n6, cq):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def newmark(y0, a0, a1, h, par, y1, n3, n6, G):
-    """End-of-step state ``y1`` from (y0, a0, a1); ``G`` is scratch for the position increments."""
+def newmark(y0, a0, a1, h, par, y1, R, W, G):
+    """End-of-step state ``y1`` from (y0, a0, a1), with the radiation states of floating bodies
+    advanced over the step (:func:`~moorline.core.floating.radiation_trapezoid`); ``G`` is scratch
+    for the position increments."""
+    n3 = R.dims[0]
+    n6 = R.dims[1]
     beta = par[2]
     gamma = par[3]
     uoff = 3 * n3 + 7 * n6
@@ -336,6 +352,8 @@ def newmark(y0, a0, a1, h, par, y1, n3, n6, G):
         G[i] = h * y0[uoff + i] + h * h * ((0.5 - beta) * a0[i] + beta * a1[i])
         y1[uoff + i] = y0[uoff + i] + h * ((1.0 - gamma) * a0[i] + gamma * a1[i])
     displace(y0, G, y1, n3, n6, 1.0)
+    if R.dims[2] > 0:
+        radiation_trapezoid(y0, y1, h, R, W)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -498,7 +516,7 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
         for k in range(kmax):
             if not shift_colour(A, cu, k, IW.a1, IW.eps, 1.0):
                 continue
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, n3, n6, scratch)
+            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, W, scratch)
             rhs(t + h, y, f1, L, R, P, E, B, Mo, W, par[8], piece)
             IW.stat[S_NRHS] += 1
             shift_colour(A, cu, k, IW.a1, IW.eps, -1.0)

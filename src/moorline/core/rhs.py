@@ -2,7 +2,10 @@
 
 Order of one evaluation (spec 3.16): coupled and free point kinematics; line end nodes copy their
 points; internal nodes from the state; line loads and internal-node accelerations; points collect
-the end forces and masses of their lines and solve their own equations.
+the end forces and masses of their lines and solve their own equations; rods, then the loads the
+rods and points pass to their bodies and the bodies' own; the potential-flow loads of floating
+bodies (:mod:`.floating`) and the solve of bodies coupled by added mass or joints; the other bodies'
+equations of motion.
 """
 
 from __future__ import annotations
@@ -11,11 +14,13 @@ import math
 
 from numba import njit
 
+from .floating import floating_loads, floating_motion
 from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
 from .numerics import bracket
 from .rigid import (
     body_kinematics,
+    body_motion,
     body_point_kinematics,
     rigid_dynamics,
     rod_kinematics,
@@ -297,3 +302,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
         if nrod > 0:
             rod_loads(R, E, B, W, cd_scale)
         rigid_dynamics(y, dy, R, P, E, W)
+        if R.fl.body.size > 0:
+            floating_loads(t, y, dy, R, E, W)
+            floating_motion(R, W)
+        body_motion(y, dy, R, W)

@@ -141,7 +141,10 @@ def solve_initial_conditions(sys: System) -> None:
     opts = sys.model.options
     L, R, P, _, B, W = sys._kernel_arrays()
     E = sys.layout.env_ic  # waves off, current on (spec 6.1)
-    newton = opts.ICNewton == 1 or (opts.ICNewton == -1 and sys.scheme == Scheme.GENALPHA)
+    # Newton when asked for, and by default with the implicit scheme or floating bodies (a hull on its
+    # hydrostatics is a stiff, lightly damped system that MoorDyn's pseudo-dynamics settle slowly)
+    floating = sys.layout.rigid.fl.body.size > 0
+    newton = opts.ICNewton == 1 or (opts.ICNewton == -1 and (sys.scheme == Scheme.GENALPHA or floating))
     if newton and newton_ic(sys, L, R, P, E, B, W):
         return
     if sys.scheme == Scheme.GENALPHA:

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.floating import floating_restart
 from ..core.implicit import advance_implicit, build_implicit, new_implicit_work
 from ..core.integrate import RHO_INF, Scheme, advance, parse_scheme
 from ..core.jacobian import (
@@ -43,6 +44,7 @@ from ..core.waterkin import fluid_kinematics
 from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
+from .floating import JOINT_PULL, floating_arrays
 from .initial import MAX_NODE_SPEED, catenary_start, solve_initial_conditions
 from .views import BodyView, LineView, PointView, RodView
 
@@ -79,7 +81,7 @@ class System:
             raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
         self.loads_at = loads_at
         self.model = model
-        self.layout = build_layout(model)
+        self.layout = build_layout(model, floating=floating_arrays(model))
         self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
             scheme if scheme is not None else model.options.tScheme)
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
@@ -90,6 +92,8 @@ class System:
             blend = bed_spring_blend(self.layout)
             self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
             self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
+        # a joint's child is pulled back onto its joint at 0.3 / dtM (see core.floating.floating_motion)
+        self.layout.rigid.fl.par[1] = JOINT_PULL / self.dtM
         self.work = self.layout.new_work()
         n = self.layout.n_state
         self.y = np.zeros(n)
@@ -222,6 +226,7 @@ class System:
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
+        floating_restart(0.0, self.y, self.layout.rigid, self.work)
         self._reset_scheme()
         self._evaluate()
         # friction springs start relaxed at the initial position of every node
@@ -490,6 +495,7 @@ class System:
         self._restart()
 
     def _restart(self) -> None:
+        floating_restart(self.t, self.y, self.layout.rigid, self.work)
         self._reset_scheme()
         if self.initialized:
             self._evaluate()
