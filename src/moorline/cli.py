@@ -1,6 +1,6 @@
 """The ``moorline`` command.
 
-    moorline run DECK [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
+    moorline run DECK|SYSTEM.yaml [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
                  [--waves jonswap:Hs=3.5,Tp=7.5,heading=180,seed=1] [--current 1.0@180]
     moorline statics DECK [--out DIR]
     moorline check DECK
@@ -50,11 +50,22 @@ def _setup_logging(verbosity: int, log_file: Path | None = None) -> None:
         root.addHandler(fh)
 
 
-def _load(args):
+def _read_input(path: Path):
+    """The model and the run settings of a MoorDyn deck or a system file (.yaml/.yml)."""
     from .io import read_deck
+    from .io.system_file import read_system_file
+
+    if path.suffix.lower() in (".yaml", ".yml"):
+        sf = read_system_file(path)
+        return sf.model, sf.run
+    return read_deck(path), {}
+
+
+def _load(args):
     from .system import System
 
-    model = read_deck(Path(args.deck))
+    model, run = _read_input(Path(args.deck))
+    args.run_settings = run
     try:
         if getattr(args, "waves", None):
             model.env.waves = parse_waves(args.waves)
@@ -62,7 +73,7 @@ def _load(args):
             model.env.current = parse_current(args.current)
     except ValueError as e:  # a bad --waves / --current value: bad input, exit code 2
         raise DeckError(str(e)) from None
-    kwargs = {}
+    kwargs = {k: v for k, v in run.items() if k in ("dtM", "scheme")}
     if getattr(args, "dtM", None):
         kwargs["dtM"] = args.dtM
     if getattr(args, "scheme", None):
@@ -152,6 +163,11 @@ def cmd_run(args) -> int:
             recorders.append(OutputRecorder(sys_))
         recorders[0].record()
 
+    run = args.run_settings
+    if args.duration is None:
+        args.duration = run.get("duration", 60.0)
+    if args.dt_out is None:
+        args.dt_out = run.get("dt_out")
     ds = simulate(system, args.duration, motion, dt_out=args.dt_out, solve_ic=not args.no_ic,
                   record_nodes=not args.no_nodes, progress=False if args.quiet_progress else None,
                   on_output=[record])
@@ -305,14 +321,15 @@ def build_parser() -> argparse.ArgumentParser:
     sub = ap.add_subparsers(dest="command", required=True)
 
     def common(p):
-        p.add_argument("deck", help="MoorDyn v2 input file")
+        p.add_argument("deck", help="MoorDyn v2 input file, or a system file (.yaml) naming one")
         p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
         p.add_argument("--dtM", type=float, help="override the internal time step [s]")
         p.add_argument("--scheme", help="override the time scheme (Euler, RK2, RK4, BEuler<M>, Midpoint<M>)")
 
     p = sub.add_parser("run", help="simulate a deck with an imposed coupled motion")
     common(p)
-    p.add_argument("--duration", type=float, default=60.0, help="simulated time [s] (default 60)")
+    p.add_argument("--duration", type=float, default=None,
+                   help="simulated time [s] (default: the system file's, else 60)")
     p.add_argument("--motion", help="CSV: header row, time t [s] first, one column per coupled DOF")
     p.add_argument("--interp", choices=("cubic", "linear"), default="cubic",
                    help="interpolation of the motion samples (cubic: smooth velocities; linear: as a MoorDyn "
