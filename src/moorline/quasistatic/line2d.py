@@ -191,9 +191,12 @@ def _newton(X, Z, L, EA, W, contact, t, CB, H, V, size):
     H, V = _clamp(H, V, H, V, L, W, contact, t)
     rX, rZ, J11, J12, J21, J22 = _res(H, V, X, Z, L, EA, W, contact, t, CB)
     rn = math.hypot(rX, rZ)
+    polish = False
     for it in range(1, _MAXIT + 1):
         if rn <= _RTOL * size:
-            return H, V, True, it - 1
+            if polish:
+                return H, V, True, it - 1
+            polish = True  # one more step (kept only if it lowers the residual): round-off accuracy
         det = J11 * J22 - J12 * J21
         if not (math.isfinite(det) and det != 0.0 and math.isfinite(rn)):
             return H, V, False, it
@@ -208,7 +211,7 @@ def _newton(X, Z, L, EA, W, contact, t, CB, H, V, size):
                 break
             lam *= 0.5
         if not (math.isfinite(rnn) and rnn < rn):
-            return H, V, rn <= 1e3 * _RTOL * size, it
+            return H, V, polish or rn <= 1e3 * _RTOL * size, it
         H, V = Hn, Vn
         rX, rZ, J11, J12, J21, J22 = rXn, rZn, J11n, J12n, J21n, J22n
         rn = rnn

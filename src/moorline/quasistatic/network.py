@@ -74,6 +74,8 @@ NET_OK = 0
 NET_NOT_CONVERGED = 1
 NET_SINGULAR = 2
 NET_LINE_FAILED = 3
+_NWATCH = 3  # extra Newton steps tried from a full step that raised the merit
+_FLOOR = 100.0  # a residual below this times the tolerance that no step lowers is round-off: converged
 
 
 @njit(cache=True, error_model="numpy")
@@ -514,13 +516,54 @@ def _apply_step(dz, lam, nu, pf, pi, bf, bi):
 
 @njit(cache=True, error_model="numpy")
 def _merit(Q, nu, rotdof, lscale):
-    """Scaled residual: the largest free force [N] or moment / length scale [N]."""
+    """Scaled residuals: the largest free force [N] or moment / length scale [N], and the root sum
+    of squares of the same (the line-search merit)."""
     m = 0.0
+    s = 0.0
     for k in range(nu):
         v = abs(Q[k]) / lscale if rotdof[k] else abs(Q[k])
+        s += v * v
         if v > m:
             m = v
-    return m
+    return m, math.sqrt(s)
+
+
+@njit(cache=True, error_model="numpy")
+def _watchdog(dz, res, res2, nu, lf, li, pf, pi, bf, bi, rotdof, opt, lw, r, rho, fp, Q, K, A, piv):
+    """Take the full Newton step ``dz`` and, if it does not lower the merit, up to ``_NWATCH`` more
+    Newton steps from there (each limited like the first); accept when the merit falls below the
+    start. A straight Newton step cannot follow a junction swinging on nearly taut legs (the legs
+    overstretch along the step); the next Newton step from the overstretched state pulls it back onto
+    the arc. Returns ``(accepted, residual, merit)``; on refusal the state is left where it stopped."""
+    _apply_step(dz, 1.0, nu, pf, pi, bf, bi)
+    d2 = np.empty(nu)
+    for w in range(_NWATCH + 1):
+        if assemble(lf, li, pf, pi, bf, bi, lw, r, rho, fp, Q, K) >= 0:
+            return False, res, res2
+        rn, rn2 = _merit(Q, nu, rotdof, opt[OPT_LSCALE])
+        if rn2 < res2 or rn <= opt[OPT_FTOL]:
+            return True, rn, rn2
+        if w == _NWATCH:
+            break
+        A[:, :] = K[:nu, :nu]
+        if not lu_factor(A, piv):
+            break
+        d2[:] = Q[:nu]
+        lu_solve(A, piv, d2)
+        mt = 0.0
+        mr = 0.0
+        for k in range(nu):
+            if rotdof[k]:
+                mr = max(mr, abs(d2[k]))
+            else:
+                mt = max(mt, abs(d2[k]))
+        lam = 1.0
+        if mt > opt[OPT_MAXSTEP]:
+            lam = opt[OPT_MAXSTEP] / mt
+        if mr * lam > opt[OPT_MAXROT]:
+            lam = opt[OPT_MAXROT] / mr
+        _apply_step(d2, lam, nu, pf, pi, bf, bi)
+    return False, res, res2
 
 
 @njit(cache=True, error_model="numpy")
@@ -571,7 +614,7 @@ def network_solve(lf, li, pf, pi, bf, bi, rotdof, nu, xc, opt, lw, r, rho, fp, Q
     if bad >= 0:
         return NET_LINE_FAILED, 0, bad, np.inf
     it = 0
-    res = _merit(Q, nu, rotdof, lscale)
+    res, res2 = _merit(Q, nu, rotdof, lscale)
     status = NET_OK
     if nu > 0:
         dz = np.empty(nu)
@@ -617,14 +660,23 @@ def network_solve(lf, li, pf, pi, bf, bi, rotdof, nu, xc, opt, lw, r, rho, fp, Q
             pf0[:, :] = pf
             bf0[:, :] = bf
             lf0[:, :] = lf
-            accepted = False
-            for _ in range(30):
+            for k in range(nu):
+                dz[k] *= lam
+            accepted, res, res2 = _watchdog(dz, res, res2, nu, lf, li, pf, pi, bf, bi, rotdof, opt, lw, r, rho, fp,
+                                            Q, K, A, piv)
+            if not accepted:
+                pf[:, :] = pf0
+                bf[:, :] = bf0
+                lf[:, :] = lf0
+            lam = 0.5
+            for _ in range(0 if accepted else 30):
                 _apply_step(dz, lam, nu, pf, pi, bf, bi)
                 bad = assemble(lf, li, pf, pi, bf, bi, lw, r, rho, fp, Q, K)
                 if bad < 0:
-                    rn = _merit(Q, nu, rotdof, lscale)
-                    if rn < res or rn <= ftol:
+                    rn, rn2 = _merit(Q, nu, rotdof, lscale)
+                    if rn2 < res2 or rn <= ftol:
                         res = rn
+                        res2 = rn2
                         accepted = True
                         break
                 pf[:, :] = pf0
@@ -635,7 +687,8 @@ def network_solve(lf, li, pf, pi, bf, bi, rotdof, nu, xc, opt, lw, r, rho, fp, Q
                 bad = assemble(lf, li, pf, pi, bf, bi, lw, r, rho, fp, Q, K)
                 if bad >= 0:
                     return NET_LINE_FAILED, it, bad, res
-                status = NET_OK if small else NET_NOT_CONVERGED
+                # no descent left: converged if the step or the residual is at round-off level
+                status = NET_OK if small or res <= _FLOOR * ftol else NET_NOT_CONVERGED
                 break
         if status == NET_NOT_CONVERGED and res <= ftol:
             status = NET_OK

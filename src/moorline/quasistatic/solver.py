@@ -318,7 +318,7 @@ class QuasiStaticModel:
         m = self.model
         npt = len(m.points)
         self.pf = np.zeros((npt, 6))
-        self.pi = np.zeros((npt, 5), dtype=np.int64)
+        self.pi = np.full((npt, 5), -1, dtype=np.int64)
         for p, pt in enumerate(m.points):
             self.pf[p, :3] = pt.r
             self.pf[p, 3:] = pt.F_ext + np.array([0.0, 0.0, self.g * (self.rho * pt.V - pt.m)])
