@@ -489,7 +489,7 @@ def set_coupled(xc, nu, pf, pi, bf, bi):
 
 
 @njit(cache=True, error_model="numpy")
-def _apply_step(dz, lam, nu, pf, pi, bf, bi):
+def apply_step(dz, lam, nu, pf, pi, bf, bi):
     """Move the free DOFs by ``lam * dz[:nu]``."""
     for p in range(pi.shape[0]):
         if pi[p, 0] == PT_DOF:
@@ -535,7 +535,7 @@ def _watchdog(dz, res, res2, nu, lf, li, pf, pi, bf, bi, rotdof, opt, lw, r, rho
     start. A straight Newton step cannot follow a junction swinging on nearly taut legs (the legs
     overstretch along the step); the next Newton step from the overstretched state pulls it back onto
     the arc. Returns ``(accepted, residual, merit)``; on refusal the state is left where it stopped."""
-    _apply_step(dz, 1.0, nu, pf, pi, bf, bi)
+    apply_step(dz, 1.0, nu, pf, pi, bf, bi)
     d2 = np.empty(nu)
     for w in range(_NWATCH + 1):
         if assemble(lf, li, pf, pi, bf, bi, lw, r, rho, fp, Q, K) >= 0:
@@ -562,7 +562,7 @@ def _watchdog(dz, res, res2, nu, lf, li, pf, pi, bf, bi, rotdof, opt, lw, r, rho
             lam = opt[OPT_MAXSTEP] / mt
         if mr * lam > opt[OPT_MAXROT]:
             lam = opt[OPT_MAXROT] / mr
-        _apply_step(d2, lam, nu, pf, pi, bf, bi)
+        apply_step(d2, lam, nu, pf, pi, bf, bi)
     return False, res, res2
 
 
@@ -670,7 +670,7 @@ def network_solve(lf, li, pf, pi, bf, bi, rotdof, nu, xc, opt, lw, r, rho, fp, Q
                 lf[:, :] = lf0
             lam = 0.5
             for _ in range(0 if accepted else 30):
-                _apply_step(dz, lam, nu, pf, pi, bf, bi)
+                apply_step(dz, lam, nu, pf, pi, bf, bi)
                 bad = assemble(lf, li, pf, pi, bf, bi, lw, r, rho, fp, Q, K)
                 if bad < 0:
                     rn, rn2 = _merit(Q, nu, rotdof, lscale)

@@ -71,6 +71,7 @@ from .network import (
     PT_DOF,
     PT_FIXED,
     angles_of,
+    apply_step,
     euler_rate_matrix,
     network_solve,
     positions,
@@ -197,6 +198,7 @@ class QuasiStaticModel:
         self._xc0 = self.deck_coupled_positions()
         self._start = (self.pf.copy(), self.bf.copy())
         self.last: QuasiStaticSolution | None = None
+        self._predict = None  # (x, Euler columns) of the last solve whose Y is valid
 
     @classmethod
     def from_model(cls, model: Model, **kwargs) -> QuasiStaticModel:
@@ -467,6 +469,7 @@ class QuasiStaticModel:
         self.bf[:, :] = self._start[1]
         self.lf[:, LF_H] = -1.0
         self.last = None
+        self._predict = None
 
     def solve(self, x=None, *, stiffness: bool = True, gradients: bool = False) -> QuasiStaticSolution:
         """Equilibrium of the free points and bodies with the coupled DOFs at ``x``.
@@ -495,11 +498,31 @@ class QuasiStaticModel:
             raise QuasiStaticError(f"x has {xc.shape[0]} values; the system has {self.nz - self.nu} coupled DOFs "
                                    f"({', '.join(self.coupled_dof_labels) or 'none'})")
         want = bool(stiffness or gradients)
+        saved = None
+        if self._predict is not None:
+            # first-order predictor of the free DOFs from the last solve: du = -Y dc
+            x_last, E = self._predict
+            dc = xc - x_last
+            if np.any(dc):
+                saved = (self.pf.copy(), self.bf.copy())
+                dz = -(self._Y @ (dc if E is None else E @ dc))
+                big = float(np.max(np.abs(dz[~self.rotdof[:self.nu]]), initial=0.0))
+                if big <= self.opt[OPT_MAXSTEP]:
+                    apply_step(dz, 1.0, self.nu, self.pf, self.pi, self.bf, self.bi)
+        self._predict = None
         status, it, info, res = network_solve(self.lf, self.li, self.pf, self.pi, self.bf, self.bi, self.rotdof,
                                               self.nu, xc, self.opt, self.lw, self._r, self._rho, self._fp, self._Q,
                                               self._K, self._A, self._piv, self._Kc, self._Y, want)
+        if status != 0 and saved is not None:  # retry from the last solution itself
+            self.pf[:, :], self.bf[:, :] = saved
+            status, it, info, res = network_solve(self.lf, self.li, self.pf, self.pi, self.bf, self.bi, self.rotdof,
+                                                  self.nu, xc, self.opt, self.lw, self._r, self._rho, self._fp,
+                                                  self._Q, self._K, self._A, self._piv, self._Kc, self._Y, want)
         if status != 0:
             self._raise(status, it, info, res, xc)
+        euler = self._euler_columns(xc)
+        if want and self.nu:
+            self._predict = (xc.copy(), euler)
         nc = self.nz - self.nu
         G = None
         if gradients:
@@ -508,11 +531,22 @@ class QuasiStaticModel:
         sol = QuasiStaticSolution(
             x=xc.copy(), loads=self._Q[self.nu:].copy(), stiffness=self._Kc.copy() if stiffness else None,
             tensions=self.lw[:, LW_T:LW_T + 2].copy(), tension_gradient=G, points=self._r.copy(),
-            bodies=self.body_poses(), iterations=int(it), _euler_cols=self._euler_columns(xc))
+            bodies=self.body_poses(), iterations=int(it), _euler_cols=euler)
         self.last = sol
         return sol
 
     def _raise(self, status, it, info, res, xc):
+        hints = ""
+        if status != NET_LINE_FAILED:
+            below = []
+            r = self.point_positions()
+            for p in range(len(r)):
+                sb = self._seabed(r[p, 0], r[p, 1]) if self.pi[p, 0] != PT_FIXED else None
+                if sb is not None and r[p, 2] < sb[0]:
+                    below.append(f"point {p + 1} reached {sb[0] - r[p, 2]:.3g} m below the seabed")
+            if below:
+                hints = ("; " + ", ".join(below) + " (the quasi-static model has no seabed contact for points: a "
+                         "clump weight must hang above the seabed)")
         # put the start back so the next call does not begin from a diverged state
         self.reset()
         if status == NET_LINE_FAILED:
@@ -525,7 +559,7 @@ class QuasiStaticModel:
             raise QuasiStaticError("the free points and bodies have no stiffness in some direction (slack lines, or a "
                                    "free body without hydrostatics): no unique equilibrium")
         raise QuasiStaticError(f"equilibrium not found after {it} Newton iterations (residual {res:.4g} N, tolerance "
-                               f"{self.opt[OPT_FTOL]:.3g} N); free DOFs: {', '.join(self.free_dof_labels)}")
+                               f"{self.opt[OPT_FTOL]:.3g} N); free DOFs: {', '.join(self.free_dof_labels)}{hints}")
 
     def _euler_columns(self, xc) -> np.ndarray | None:
         """``blockdiag(I, T)`` over the coupled DOFs (``T`` of each coupled body's roll and pitch)."""
