@@ -349,6 +349,7 @@ def upright_line(X, Z, L, EA, W, contact, t, CB, H0, V0, out):
         sn = t * c
         h = Z - X * t  # height of the upper end above the seabed plane
         if h < -_ON_BED * size:
+            out[O_LB] = np.nan
             return QS_BELOW_SEABED, 0
         Lh = _hang_length(h, W, EA)
         Lflat = X * st
