@@ -36,7 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .line2d import LINE2D_SIZE, O_D, O_H, O_HL, O_KTL, O_KTU, O_LB, O_V, O_VL, upright_line
+from .line2d import LINE2D_SIZE, O_D, O_H, O_HL, O_KTL, O_KTU, O_LB, O_V, O_VL, QS_BELOW_SEABED, upright_line
 
 # line float table columns
 LF_L, LF_EA, LF_W, LF_CB, LF_GX, LF_GY, LF_H, LF_V = range(8)
@@ -156,6 +156,13 @@ def line3d(rA, rB, lf, li, o2, lw):
     else:
         lo_a = d2 >= 0.0
     contact = (bed == 1 and lo_a) or (bed == 2 and not lo_a)
+    if bed != 0 and not contact:
+        # the end on the seabed is the upper one: the other end must not lie below the seabed plane
+        sb = 1.0 if bed == 1 else -1.0  # from the seabed end to the other end
+        Xo = math.hypot(d0, d1)
+        slope_o = (lf[LF_GX] * d0 + lf[LF_GY] * d1) * sb / Xo if Xo > 0.0 else 0.0
+        if sb * d2 - Xo * slope_o < -1e-9 * (lf[LF_L] + Xo + abs(d2)):
+            return QS_BELOW_SEABED
     sg = 1.0 if lo_a else -1.0
     u0 = sg * d0
     u1 = sg * d1
