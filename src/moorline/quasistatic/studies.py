@@ -17,7 +17,7 @@ import xarray as xr
 from ..model import rotation_xyz
 from .solver import QuasiStaticError, QuasiStaticModel, QuasiStaticSolution
 
-__all__ = ["Target", "offset_curve", "solution_dataset", "watch_circle"]
+__all__ = ["Target", "displace_coupled", "offset_curve", "solution_dataset", "watch_circle"]
 
 _SIX = ["x", "y", "z", "roll", "pitch", "yaw"]
 _UNITS6 = "N (x, y, z), N m (roll, pitch, yaw)"
@@ -34,13 +34,16 @@ class Target:
         coupled points.
     center : array_like, shape (3,), optional
         Centre of the rigid motion of coupled points [m] (default the origin).
+    points : bool
+        Move the coupled points even when the system has coupled bodies.
     """
 
-    def __init__(self, qs: QuasiStaticModel, body: int | None = None, center=(0.0, 0.0, 0.0)):
+    def __init__(self, qs: QuasiStaticModel, body: int | None = None, center=(0.0, 0.0, 0.0), *,
+                 points: bool = False):
         self.qs = qs
         labels = qs.coupled_dof_labels
         nc = qs.n_coupled_dof
-        if body is None:
+        if body is None and not points:
             six = [lab[:-4] for lab in labels if lab.startswith("B") and lab.endswith("_yaw")]
             body = int(six[0][1:]) if six else None
         self.center = np.asarray(center, dtype=float).reshape(3)
@@ -276,3 +279,22 @@ def watch_circle(qs: QuasiStaticModel, force: float, headings=None, *, x0=None, 
         coords={"heading": ("heading", headings, {"units": "deg", "long_name": "direction the force acts towards"}),
                 "line": np.arange(1, nL + 1), "end": ["A", "B"]},
         attrs={"force_N": float(force), "target": target.label, "source": str(qs.model.source or "")})
+
+
+def displace_coupled(qs: QuasiStaticModel, dq, x0=None) -> np.ndarray:
+    """The coupled DOF vector with every coupled object displaced by the rigid motion ``dq`` = (dx,
+    dy, dz [m], droll, dpitch, dyaw [rad]) from ``x0`` (default the deck): coupled bodies add it to
+    their pose, coupled points move as one rigid floater about the origin."""
+    x = qs.deck_coupled_positions() if x0 is None else np.asarray(x0, dtype=float).copy()
+    dq = np.asarray(dq, dtype=float).reshape(6)
+    labels = qs.coupled_dof_labels
+    if not labels:
+        raise QuasiStaticError("the system has no coupled body or coupled point to displace")
+    bodies = sorted({int(lab[1:lab.index("_")]) for lab in labels if lab.startswith("B")})
+    for b in bodies:
+        idx = [i for i, lab in enumerate(labels) if lab.startswith(f"B{b}_")]
+        x[idx] += dq[:len(idx)]
+    if any(lab.startswith("P") for lab in labels):
+        x = Target(qs, points=True).place(x, dq)
+    return x
+
