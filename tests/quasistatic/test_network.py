@@ -262,3 +262,25 @@ def test_model_is_not_modified():
     before = copy.deepcopy(m)
     QuasiStaticModel(m).solve()
     assert all(np.array_equal(a.r, b.r) for a, b in zip(m.points, before.points, strict=True))
+
+
+def test_several_lines_between_the_same_points():
+    """Two identical lines side by side between the same points act as one line of twice the wet
+    weight and twice the EA (the same shape at twice the tension): the free clump finds the same
+    place and the coupled stiffness is the same (1e-9: two equal equilibria)."""
+    text = SYSTEMS["clump_line"][0].read_text()
+    double = text.replace("2     main       2        3         300.0     60      -",
+                          "2     main       2        3         300.0     60      -\n"
+                          "3     main       2        3         300.0     60      -")
+    rho = 1025.0
+    area = math.pi * 0.09 ** 2 / 4
+    heavy = text.replace("2     main       2        3", "2     twin       2        3").replace(
+        "---------------------- POINTS", f"twin       0.09    {2 * 77.7066 - rho * area:.10f}    768.486E6  -0.8  0  "
+        "1.6  1.0  0.1  0.0\n---------------------- POINTS")
+    assert double != text and heavy != text
+    s2 = QuasiStaticModel(read_deck_text(double)).solve()
+    sh = QuasiStaticModel(read_deck_text(heavy)).solve()
+    assert np.allclose(s2.points, sh.points, atol=1e-7)
+    assert np.allclose(s2.tensions[1], s2.tensions[2], rtol=1e-12)  # the line type twin: 2 W, 2 EA
+    assert np.allclose(2 * s2.tensions[1], sh.tensions[1], rtol=1e-9)
+    assert np.allclose(s2.stiffness, sh.stiffness, rtol=1e-8, atol=1e-9 * np.max(np.abs(sh.stiffness)))

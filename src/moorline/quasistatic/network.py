@@ -124,7 +124,10 @@ def _rotate_by(w0, w1, w2, R):
     E[2, 0] = k2 * k0 * v - k1 * s
     E[2, 1] = k2 * k1 * v + k0 * s
     E[2, 2] = c + k2 * k2 * v
-    Rn = E @ R
+    Rn = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            Rn[i, j] = E[i, 0] * R[0, j] + E[i, 1] * R[1, j] + E[i, 2] * R[2, j]
     R[:, :] = Rn
 
 
@@ -399,9 +402,13 @@ def _body_loads(bfr, bir, Q, K):
     for i in range(3, 6):  # wrap angle differences to (-pi, pi]
         dq[i] = dq[i] - 2.0 * math.pi * math.floor((dq[i] + math.pi) / (2.0 * math.pi))
     C = bfr[BF_C:BF_C + 36].reshape(6, 6)
-    T = np.empty((3, 3))
-    euler_rate_matrix(roll, pitch, T)
-    Ti = np.linalg.inv(T)
+    # inverse of the Euler rate matrix (euler_rate_matrix), in closed form (cos(pitch) != 0)
+    cr, sr = math.cos(roll), math.sin(roll)
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    Ti = np.empty((3, 3))
+    Ti[0, 0], Ti[0, 1], Ti[0, 2] = 1.0, sr * sp / cp, -cr * sp / cp
+    Ti[1, 0], Ti[1, 1], Ti[1, 2] = 0.0, cr, sr
+    Ti[2, 0], Ti[2, 1], Ti[2, 2] = 0.0, -sr / cp, cr / cp
     for i in range(6):
         k = bir[1 + i]
         if k < 0:

@@ -110,7 +110,7 @@ def solution_dataset(qs: QuasiStaticModel, sol: QuasiStaticSolution | None = Non
     ``coupled_dof``).
 
     Variables: ``tension`` (line, end) [N]; ``grounded_length`` (line) [m]; ``point_position`` (point,
-    xyz) [m]; ``body_pose`` (body, dof) [m, rad]; ``load`` (coupled_dof) [N, N m]; ``stiffness``
+    xyz) [m]; ``body_pose`` (body, dof) [m, rad]; ``mooring_load`` (coupled_dof) [N, N m]; ``stiffness``
     (coupled_dof, coupled_dof_j) [N/m, N/rad, N m/m, N m/rad]; ``tension_gradient`` (line, end,
     coupled_dof) when the solution has it.
     """
@@ -127,7 +127,7 @@ def solution_dataset(qs: QuasiStaticModel, sol: QuasiStaticSolution | None = Non
                                                                "lying on the seabed"}),
         "point_position": (("point", "xyz"), sol.points, {"units": "m"}),
         "body_pose": (("body", "dof"), sol.bodies, {"units": "m (x, y, z), rad (roll, pitch, yaw)"}),
-        "load": ("coupled_dof", sol.loads, {"units": "N, N m", "long_name": "mooring loads on the coupled DOFs"}),
+        "mooring_load": ("coupled_dof", sol.loads, {"units": "N, N m", "long_name": "mooring loads on the coupled DOFs"}),
     }
     if sol.stiffness is not None:
         data["stiffness"] = (("coupled_dof", "coupled_dof_j"), sol.stiffness,
@@ -181,7 +181,7 @@ def offset_curve(qs: QuasiStaticModel, offsets, *, heading: float = 0.0, dof: st
     Returns
     -------
     xarray.Dataset
-        Dims ``offset``, ``line``, ``end``, ``dof``: ``load`` (offset, dof) mooring loads on the target;
+        Dims ``offset``, ``line``, ``end``, ``dof``: ``mooring_load`` (offset, dof) loads on the target;
         ``restoring`` (offset) = minus the load along the offset direction [N or N m]; ``stiffness``
         (offset) along it (the analytic ``d^T K d``); ``tension`` (offset, line, end) [N];
         ``max_tension`` (offset) [N].
@@ -203,7 +203,7 @@ def offset_curve(qs: QuasiStaticModel, offsets, *, heading: float = 0.0, dof: st
     rot = dof in ("roll", "pitch", "yaw")
     units = "rad" if rot else "m"
     return xr.Dataset(
-        {"load": (("offset", "dof"), load, {"units": _UNITS6, "long_name": f"mooring loads on {target.label}"}),
+        {"mooring_load": (("offset", "dof"), load, {"units": _UNITS6, "long_name": f"mooring loads on {target.label}"}),
          "restoring": ("offset", -(load @ d), {"units": "N m" if rot else "N",
                                                "long_name": f"restoring {'moment' if rot else 'force'} along the "
                                                "offset"}),
