@@ -157,3 +157,20 @@ def test_watch_circle_balances_the_force():
     # the offset points along the force
     assert float(wc.sel(heading=0.0).offset_x) > 10.0
     assert float(wc.sel(heading=180.0).offset_x) < -10.0
+
+
+def test_figures_draw_the_study_data():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from moorline import plot
+
+    qs = QuasiStaticModel(deck("oc3_bridle"))
+    ds = offset_curve(qs, np.linspace(0.0, 10.0, 11))
+    axes = plot.offset_curve(ds, lines=[1, 4])
+    assert np.allclose(axes[0].lines[0].get_ydata(), ds.restoring.values * 1e-3)
+    assert np.allclose(axes[1].lines[1].get_ydata(), ds.tension.sel(line=4, end="B").values * 1e-3)
+    wc = watch_circle(qs, 1.0e6, [0.0, 120.0, 240.0])
+    ax = plot.watch_circle(wc)
+    x = ax.lines[0].get_xdata()
+    assert x[0] == x[-1] and np.allclose(x[:3], wc.offset_x.values)  # a closed polygon of the offsets

@@ -284,3 +284,18 @@ def test_several_lines_between_the_same_points():
     assert np.allclose(s2.tensions[1], s2.tensions[2], rtol=1e-12)  # the line type twin: 2 W, 2 EA
     assert np.allclose(2 * s2.tensions[1], sh.tensions[1], rtol=1e-9)
     assert np.allclose(s2.stiffness, sh.stiffness, rtol=1e-8, atol=1e-9 * np.max(np.abs(sh.stiffness)))
+
+
+def test_bodies_free_false_gives_every_body_coupled():
+    """The time-domain coupling: a deck whose body is FREE (the dynamic model moves it) solved with
+    the body given. Same coupled DOFs, loads and stiffness as the deck with a COUPLED body (the
+    body's own mass is not a mooring load); an (nB, 6) pose array is accepted."""
+    qf = QuasiStaticModel(read_deck(DATA / "oc3_spar_free.dat"), bodies_free=False)
+    qc = QuasiStaticModel(deck("oc3_spar"))
+    assert qf.coupled_dof_labels == qc.coupled_dof_labels == [f"B1_{c}" for c in
+                                                               ("x", "y", "z", "roll", "pitch", "yaw")]
+    pose = np.array([[3.0, -1.0, 0.2, 0.01, 0.02, 0.05]])
+    sf, sc = qf.solve(pose), qc.solve(pose.ravel())
+    assert np.array_equal(sf.loads, sc.loads) and np.array_equal(sf.stiffness, sc.stiffness)
+    qt = QuasiStaticModel(deck("oc3_spar"), bodies_free=True, hydrostatics={1: oc3_hydrostatics()})
+    assert qt.n_coupled_dof == 0 and qt.free_dof_labels[:3] == ["B1_x", "B1_y", "B1_z"]

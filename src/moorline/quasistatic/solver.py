@@ -153,9 +153,12 @@ class QuasiStaticModel:
         The system (from :func:`moorline.io.read_deck` or built in Python). Rods are an error;
         bending stiffness is ignored with a warning.
     bodies_free : None, bool or iterable of int, optional
-        Which bodies are in equilibrium (6 free DOFs): None (default) as the deck says (FREE bodies;
-        COUPLEDPINNED bodies have free rotations); True: every body that is not FIXED; or the 1-based
-        numbers of the bodies to free (the others as the deck says).
+        Which bodies are in equilibrium (6 free DOFs) and which are given (6 coupled DOFs). None
+        (default): as the deck says (FREE bodies free, COUPLED bodies given, COUPLEDPINNED bodies given
+        in translation with free rotations). False: every body that is not FIXED is given (the
+        time-domain coupling, where the dynamic model moves the bodies). True: every body that is not
+        FIXED is free. An iterable of 1-based body numbers: those are free, every other non-FIXED
+        body is given.
     hydrostatics : dict of int to BodyHydrostatics, optional
         Hydrostatics of free bodies by 1-based body number. A free body without it gets MoorDyn's
         body buoyancy: the deck volume at the centre of gravity, with no waterplane stiffness.
@@ -180,7 +183,7 @@ class QuasiStaticModel:
         env = model.env
         self.rho = float(env.rho)
         self.g = float(env.g)
-        self._free_bodies = self._which_free(bodies_free)
+        self._modes = self._body_modes(bodies_free)
         self.hydrostatics = {int(k): v for k, v in (hydrostatics or {}).items()}
         self.external_loads = {int(k): np.asarray(v, dtype=float).reshape(6) for k, v in (external_loads or {}).items()}
         for name, d in (("hydrostatics", self.hydrostatics), ("external_loads", self.external_loads)):
@@ -227,22 +230,27 @@ class QuasiStaticModel:
         if not model.lines:
             raise QuasiStaticError("the model has no lines")
 
-    def _which_free(self, bodies_free) -> set[int]:
+    def _body_modes(self, bodies_free) -> list[str]:
+        """Per body: 'fixed', 'free', 'coupled' (6 given DOFs) or 'pinned' (translation given,
+        rotations free)."""
         bodies = self.model.bodies
-        deck = {i for i, b in enumerate(bodies) if b.kind == BodyKind.FREE}
-        if bodies_free is None or bodies_free is False:
-            return deck
-        if bodies_free is True:
-            return {i for i, b in enumerate(bodies) if b.kind != BodyKind.FIXED}
-        out = set(deck)
-        for k in bodies_free:
-            k = int(k)
-            if not 1 <= k <= len(bodies):
-                raise QuasiStaticError(f"bodies_free: no body {k} ({len(bodies)} bodies)")
-            if bodies[k - 1].kind == BodyKind.FIXED:
-                raise QuasiStaticError(f"bodies_free: body {k} is FIXED in the deck")
-            out.add(k - 1)
-        return out
+        if bodies_free is None:
+            word = {BodyKind.FIXED: "fixed", BodyKind.FREE: "free", BodyKind.COUPLED: "coupled",
+                    BodyKind.COUPLED_PINNED: "pinned"}
+            return [word[b.kind] for b in bodies]
+        if bodies_free is True or bodies_free is False:
+            free = set(range(len(bodies))) if bodies_free else set()
+        else:
+            free = set()
+            for k in bodies_free:
+                k = int(k)
+                if not 1 <= k <= len(bodies):
+                    raise QuasiStaticError(f"bodies_free: no body {k} ({len(bodies)} bodies)")
+                if bodies[k - 1].kind == BodyKind.FIXED:
+                    raise QuasiStaticError(f"bodies_free: body {k} is FIXED in the deck")
+                free.add(k - 1)
+        return ["fixed" if b.kind == BodyKind.FIXED else "free" if i in free else "coupled"
+                for i, b in enumerate(bodies)]
 
     def _build_dofs(self) -> None:
         """Number the DOFs: free ones first (bodies, then points), coupled ones in System order."""
@@ -253,12 +261,12 @@ class QuasiStaticModel:
         self.pdof = np.full((npt, 3), -1, dtype=np.int64)
         k = 0
         labels_free = []
-        for b, body in enumerate(m.bodies):
-            if b in self._free_bodies:
+        for b, mode in enumerate(self._modes):
+            if mode == "free":
                 self.bi[b, 1:7] = np.arange(k, k + 6)
                 labels_free += [f"B{b + 1}_{c}" for c in _SIX]
                 k += 6
-            elif body.kind == BodyKind.COUPLED_PINNED:
+            elif mode == "pinned":
                 self.bi[b, 4:7] = np.arange(k, k + 3)
                 labels_free += [f"B{b + 1}_{c}" for c in _SIX[3:]]
                 k += 3
@@ -270,19 +278,13 @@ class QuasiStaticModel:
         self.nu = k
         labels = []
         self._coupled_bodies = []
-        for b, body in enumerate(m.bodies):
-            if b in self._free_bodies:
-                continue
-            if body.kind == BodyKind.COUPLED:
-                self.bi[b, 1:7] = np.arange(k, k + 6)
-                labels += [f"B{b + 1}_{c}" for c in _SIX]
+        for b, mode in enumerate(self._modes):
+            if mode in ("coupled", "pinned"):
+                n = 6 if mode == "coupled" else 3
+                self.bi[b, 1:1 + n] = np.arange(k, k + n)
+                labels += [f"B{b + 1}_{c}" for c in _SIX[:n]]
                 self._coupled_bodies.append(b)
-                k += 6
-            elif body.kind == BodyKind.COUPLED_PINNED:
-                self.bi[b, 1:4] = np.arange(k, k + 3)
-                labels += [f"B{b + 1}_{c}" for c in _SIX[:3]]
-                self._coupled_bodies.append(b)
-                k += 3
+                k += n
         self._coupled_points = []
         for p, pt in enumerate(m.points):
             if pt.kind == PointKind.COUPLED:
@@ -312,7 +314,7 @@ class QuasiStaticModel:
         out = []
         for b in self._coupled_bodies:
             body = m.bodies[b]
-            out.append(np.concatenate([body.r, np.radians(body.angles)]) if body.kind == BodyKind.COUPLED else body.r)
+            out.append(np.concatenate([body.r, np.radians(body.angles)]) if self._modes[b] == "coupled" else body.r)
         out += [m.points[p].r for p in self._coupled_points]
         return np.concatenate(out) if out else np.zeros(0)
 

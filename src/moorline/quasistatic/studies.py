@@ -127,7 +127,8 @@ def solution_dataset(qs: QuasiStaticModel, sol: QuasiStaticSolution | None = Non
                                                                "lying on the seabed"}),
         "point_position": (("point", "xyz"), sol.points, {"units": "m"}),
         "body_pose": (("body", "dof"), sol.bodies, {"units": "m (x, y, z), rad (roll, pitch, yaw)"}),
-        "mooring_load": ("coupled_dof", sol.loads, {"units": "N, N m", "long_name": "mooring loads on the coupled DOFs"}),
+        "mooring_load": ("coupled_dof", sol.loads, {"units": "N, N m",
+                                                    "long_name": "mooring loads on the coupled DOFs"}),
     }
     if sol.stiffness is not None:
         data["stiffness"] = (("coupled_dof", "coupled_dof_j"), sol.stiffness,
