@@ -55,7 +55,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .catenary import _residual, _solve, _suspended, _vertical_VF
+from .catenary import _residual, _suspended, _vertical_VF
 
 __all__ = ["LINE2D_SIZE", "O_D", "O_H", "O_HL", "O_KTL", "O_KTU", "O_LB", "O_V", "O_VL", "QS_BELOW_SEABED",
            "QS_INVALID", "QS_NOT_CONVERGED", "QS_OK", "line_profile_upright", "upright_line"]
@@ -405,7 +405,7 @@ def upright_line(X, Z, L, EA, W, contact, t, CB, H0, V0, out):
         out[O_KTU] = out[O_KTL] = kt
         _set_derivs(out, kt, 0.0, 0.0, 0.0, VZ, 0.0, kt, 0.0, 0.0, 0.0, VZ, 0.0)
         return QS_OK, 0
-    # Newton from the warm start, then from the frictionless catenary, then bracketing
+    # Newton from the warm start, then from MoorDyn's start guess, then bracketing
     it_total = 0
     ok = False
     H = H0
@@ -414,11 +414,16 @@ def upright_line(X, Z, L, EA, W, contact, t, CB, H0, V0, out):
         H, V, ok, it = _newton(X, Z, L, EA, W, contact, t, CB, H0, V0, size)
         it_total += it
     if not ok:
-        Hc, Vc, st_c, it = _solve(X, Z, L, EA, W, contact, 1e-6, 200)
+        # MoorDyn's catenary start guess (spec 6.2), mirrored for buoyant lines
+        chord = math.hypot(X, Z)
+        lam = 0.2
+        if L > chord:
+            q = 3.0 * ((L * L - Z * Z) / (X * X) - 1.0)
+            lam = math.sqrt(q) if q < 1e12 else 1e6
+        Hc = max(abs(W * X / (2.0 * lam)), 1e-6 * min(1.0, abs(W) * L))
+        Vc = 0.5 * (W * L + abs(W) * Z / math.tanh(lam))
+        H, V, ok, it = _newton(X, Z, L, EA, W, contact, t, CB, Hc, Vc, size)
         it_total += it
-        if st_c == 0 and Hc > 0.0:
-            H, V, ok, it = _newton(X, Z, L, EA, W, contact, t, CB, Hc, Vc, size)
-            it_total += it
     if not ok:
         H, V, ok = _bracketed(X, Z, L, EA, W, contact, t, CB, size)
     if not ok:
