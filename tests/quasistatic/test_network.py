@@ -299,3 +299,29 @@ def test_bodies_free_false_gives_every_body_coupled():
     assert np.array_equal(sf.loads, sc.loads) and np.array_equal(sf.stiffness, sc.stiffness)
     qt = QuasiStaticModel(deck("oc3_spar"), bodies_free=True, hydrostatics={1: oc3_hydrostatics()})
     assert qt.n_coupled_dof == 0 and qt.free_dof_labels[:3] == ["B1_x", "B1_y", "B1_z"]
+
+
+def test_check_seabed_reports_what_the_model_cannot_see(caplog):
+    """In 50 m of water: a chain hanging between two coupled points sags below the seabed (a line not
+    anchored on the seabed is kept suspended), and a clump hung from a coupled point on a 60 m chain
+    lies below it (points have no seabed contact); check_seabed names both and logs them."""
+    from moorline.model import Environment, Model
+
+    m = Model(env=Environment(depth=50.0))
+    m.add_line_type("chain", d=0.09, w=77.7, EA=3.8e8)
+    a = m.add_point("coupled", (0.0, 0.0, -20.0))
+    b = m.add_point("coupled", (100.0, 0.0, -20.0))
+    c = m.add_point("free", (0.0, 30.0, -60.0), m=1000.0)
+    m.add_line("chain", a, b, L=200.0, N=20)
+    m.add_line("chain", a, c, L=60.0, N=10)
+    qs = QuasiStaticModel(m)
+    sol = qs.solve()
+    assert sol.points[2, 2] < -50.0
+    with caplog.at_level(logging.WARNING, logger="moorline.quasistatic"):
+        msgs = qs.check_seabed()
+    assert any(s.startswith("point 3 lies") for s in msgs)
+    assert any(s.startswith("line 1 sags") for s in msgs)
+    assert len(caplog.records) == len(msgs)
+    qs2 = QuasiStaticModel(deck("clump_line"))
+    qs2.solve()
+    assert qs2.check_seabed() == []

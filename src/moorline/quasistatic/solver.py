@@ -73,6 +73,7 @@ from .network import (
     angles_of,
     apply_step,
     euler_rate_matrix,
+    line3d,
     network_solve,
     positions,
     tension_gradients,
@@ -694,8 +695,6 @@ def line_end_forces(rA, rB, L, EA, W, *, seabed_end=None, slope=(0.0, 0.0), CB=0
     T : ndarray, shape (2,)
         Tensions at A and B [N].
     """
-    from .network import line3d
-
     lf = np.array([L, EA, W, CB, slope[0], slope[1], -1.0, 0.0], dtype=float)
     li = np.array([0, 1, {None: 0, "A": 1, "B": 2}[seabed_end]], dtype=np.int64)
     lw = np.zeros(LW_SIZE)
