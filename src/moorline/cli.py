@@ -2,7 +2,7 @@
 
     moorline run DECK|SYSTEM.yaml [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
                  [--waves jonswap:Hs=3.5,Tp=7.5,heading=180,seed=1] [--current 1.0@180]
-    moorline statics DECK [--out DIR]
+    moorline statics DECK [--out DIR] [--quasi-static [--json] [--offset x,y,z,rx,ry,rz] [--friction CB]]
     moorline check DECK
     moorline sweep STUDY.yaml [--workers N] [--scheduler ADDRESS] [--out DIR] [--no-resume]
     moorline fatigue RESULT.nc --do 0.040 [--di 0.020] --alpha 6.098e19 --m 6.238 [--unit 1e6]
@@ -198,6 +198,11 @@ def cmd_run(args) -> int:
 def cmd_statics(args) -> int:
     from .results import Recorder, write_netcdf
 
+    if args.quasi_static:
+        return _statics_quasi_static(args)
+    for flag in ("json", "offset", "friction"):
+        if getattr(args, flag) not in (None, False):
+            raise DeckError(f"--{flag} needs --quasi-static")
     system = _load(args)
     system.init(solve_ic=True)
     ic = system.ic_report
@@ -216,6 +221,73 @@ def cmd_statics(args) -> int:
         rec.record()
         path = write_netcdf(rec.to_dataset(), Path(args.out) / f"{Path(args.deck).stem}_statics.nc")
         print(f"  wrote {path}")
+    return 0
+
+
+def _statics_quasi_static(args) -> int:
+    """``statics --quasi-static``: the quasi-static equilibrium, tensions and coupled stiffness."""
+    import json
+
+    from .io import read_deck
+    from .quasistatic import QuasiStaticError, QuasiStaticModel
+    from .quasistatic.studies import displace_coupled, solution_dataset
+
+    model = read_deck(Path(args.deck))
+    friction = 0.0 if args.friction is None else args.friction
+    try:
+        if friction != "deck":
+            friction = float(friction)
+        qs = QuasiStaticModel(model, seabed_friction=friction)
+        x = None
+        if args.offset:
+            try:
+                dq = np.array([float(v) for v in args.offset.split(",")])
+            except ValueError:
+                dq = np.zeros(0)
+            if dq.size != 6:
+                raise DeckError(f"--offset {args.offset!r}: expected six numbers x,y,z,rx,ry,rz (m, deg)")
+            x = displace_coupled(qs, np.r_[dq[:3], np.radians(dq[3:])])
+        sol = qs.solve(x)
+        qs.check_seabed()
+    except (QuasiStaticError, ValueError) as e:
+        if isinstance(e, DeckError):
+            raise
+        print(f"moorline: quasi-static model: {e}", file=sys.stderr)
+        return 2
+    m = model
+    if args.json:
+        out = {
+            "lines": {str(k + 1): {"fairlead_tension": float(sol.tensions[k, 1]),
+                                   "anchor_tension": float(sol.tensions[k, 0])} for k in range(len(m.lines))},
+            "points": {str(p + 1): [float(v) for v in sol.points[p]] for p, pt in enumerate(m.points)
+                       if pt.kind.name == "FREE"},
+            "bodies": {str(b + 1): [float(v) for v in sol.bodies[b]] for b in range(len(m.bodies))},
+            "stiffness": [[float(v) for v in row] for row in sol.stiffness],
+        }
+        print(json.dumps(out, indent=1))
+    else:
+        print(f"moorline {__version__}: quasi-static equilibrium of {args.deck} ({sol.iterations} Newton iterations)")
+        for k in range(len(m.lines)):
+            print(f"  line {k + 1}: fairlead tension {sol.tensions[k, 1] / 1e3:.3f} kN, anchor tension "
+                  f"{sol.tensions[k, 0] / 1e3:.3f} kN")
+        for p, pt in enumerate(m.points):
+            if pt.kind.name == "FREE":
+                print(f"  point {p + 1} (free): position {np.round(sol.points[p], 4).tolist()} m")
+        for b in range(len(m.bodies)):
+            print(f"  body {b + 1}: position {np.round(sol.bodies[b, :3], 4).tolist()} m, rotation "
+                  f"{np.round(np.degrees(sol.bodies[b, 3:]), 4).tolist()} deg")
+        labels = qs.coupled_dof_labels
+        if labels:
+            print("  stiffness of the coupled DOFs [N/m, N/rad, N m/m, N m/rad]:")
+            print("  " + " " * 10 + "".join(f"{lab:>12s}" for lab in labels))
+            for i, lab in enumerate(labels):
+                print(f"  {lab:>10s}" + "".join(f"{v:12.4g}" for v in sol.stiffness[i]))
+    if args.out:
+        from .results import write_netcdf
+
+        path = write_netcdf(solution_dataset(qs, qs.solve(x, gradients=True)),
+                            Path(args.out) / f"{Path(args.deck).stem}_quasistatic.nc")
+        print(f"  wrote {path}", file=sys.stderr if args.json else sys.stdout)
     return 0
 
 
@@ -346,7 +418,14 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("statics", help="find the initial equilibrium and report it")
     common(p)
-    p.add_argument("--out", help="also write <base>_statics.nc to this folder")
+    p.add_argument("--out", help="also write <base>_statics.nc (<base>_quasistatic.nc) to this folder")
+    p.add_argument("--quasi-static", action="store_true",
+                   help="the quasi-static model (catenary lines): equilibrium, tensions and coupled stiffness")
+    p.add_argument("--json", action="store_true", help="with --quasi-static: print the results as JSON")
+    p.add_argument("--offset", help="with --quasi-static: rigid offset of the coupled body (coupled points) from the "
+                   "deck pose: x,y,z,rx,ry,rz (m, deg)")
+    p.add_argument("--friction", help="with --quasi-static: seabed friction coefficient CB of the lines (default 0), "
+                   "or 'deck' for the deck's axial friction coefficient")
     p.set_defaults(func=cmd_statics)
 
     p = sub.add_parser("check", help="read a deck and report its size and time-step stability")

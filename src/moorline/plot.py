@@ -3,8 +3,9 @@
 One run (:func:`moorline.simulate` results): :func:`curvature_envelope`. A sweep
 (:func:`moorline.studies.run_sweep` dataset): :func:`envelopes_along_arc` (curvature, stress, ...
 envelopes per case), :func:`damage_along_arc`, :func:`scatter_heatmap` (the fatigue Hs-Tz matrix)
-and :func:`sensitivity` (how a result depends on each parameter). Every function draws into the
-axes it is given (or a new figure) and returns the axes.
+and :func:`sensitivity` (how a result depends on each parameter). Quasi-static studies
+(:mod:`moorline.quasistatic.studies` datasets): :func:`offset_curve` and :func:`watch_circle`. Every
+function draws into the axes it is given (or a new figure) and returns the axes.
 """
 
 from __future__ import annotations
@@ -12,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-__all__ = ["cases", "curvature_envelope", "damage_along_arc", "envelopes_along_arc", "scatter_heatmap",
-           "sensitivity"]
+__all__ = ["cases", "curvature_envelope", "damage_along_arc", "envelopes_along_arc", "offset_curve", "scatter_heatmap",
+           "sensitivity", "watch_circle"]
 
 
 def _axes(ax, figsize=(7.0, 4.2)):
@@ -187,6 +188,64 @@ def sensitivity(ds: xr.Dataset, metric: str = "life_years", *, axes=None, log: b
     axes[0].set_ylabel(label or metric)
     axes[0].legend(fontsize=8)
     return axes
+
+
+def offset_curve(ds: xr.Dataset, *, axes=None, end: str = "B", lines=None):
+    """Restoring force (top) and line tensions (bottom) against the offset of a quasi-static offset
+    curve (:func:`moorline.quasistatic.studies.offset_curve`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The offset curve.
+    axes : sequence of two Axes, optional
+        Where to draw (default: a new figure with two stacked axes).
+    end : {"A", "B"}
+        Which end's tension to draw (B: fairlead, A: anchor).
+    lines : iterable of int, optional
+        Line numbers to draw (default all).
+    """
+    if axes is None:
+        import matplotlib.pyplot as plt
+
+        axes = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True)[1]
+    rot = ds.offset.attrs.get("units") == "rad"
+    x = np.degrees(ds.offset.values) if rot else ds.offset.values
+    scale = 1e-6 if rot else 1e-3
+    axes[0].plot(x, ds.restoring.values * scale, color="k", lw=1.8)
+    axes[0].set_ylabel("restoring moment [MN m]" if rot else "restoring force [kN]")
+    head = f" at {ds.attrs['heading_deg']:g} deg" if ds.attrs.get("dof") in ("surge", "sway") else ""
+    axes[0].set_title(f"{ds.attrs.get('dof', 'offset')} offset{head}: {ds.attrs.get('target', '')}", fontsize=10)
+    sel = ds.line.values if lines is None else list(lines)
+    colors = _colors(len(sel))
+    for c, ln in zip(colors, sel, strict=True):
+        axes[1].plot(x, ds.tension.sel(line=ln, end=end).values * 1e-3, color=c, lw=1.3, label=f"line {ln}")
+    axes[1].set_ylabel(f"{'fairlead' if end == 'B' else 'anchor'} tension [kN]")
+    axes[1].set_xlabel(f"{ds.attrs.get('dof', 'offset')} offset [{'deg' if rot else 'm'}]")
+    if len(sel) <= 12:
+        axes[1].legend(fontsize=8, ncol=2 if len(sel) > 4 else 1)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    return axes
+
+
+def watch_circle(ds: xr.Dataset, *, ax=None, color_by_tension: bool = True):
+    """Mean offsets of a quasi-static watch circle (:func:`moorline.quasistatic.studies.watch_circle`)
+    in the horizontal plane, coloured by the largest line tension."""
+    ax = _axes(ax, figsize=(5.6, 5.0))
+    x = np.append(ds.offset_x.values, ds.offset_x.values[:1])
+    y = np.append(ds.offset_y.values, ds.offset_y.values[:1])
+    ax.plot(x, y, color="0.4", lw=1.0)
+    if color_by_tension:
+        sc = ax.scatter(ds.offset_x, ds.offset_y, c=ds.max_tension.values * 1e-3, cmap="viridis", zorder=3)
+        ax.figure.colorbar(sc, ax=ax, label="largest line tension [kN]")
+    ax.plot(0.0, 0.0, "k+", ms=10)
+    ax.set_aspect("equal")
+    ax.set_xlabel("offset x [m]")
+    ax.set_ylabel("offset y [m]")
+    ax.set_title(f"watch circle, {ds.attrs.get('force_N', 0.0) / 1e3:g} kN", fontsize=10)
+    ax.grid(alpha=0.3)
+    return ax
 
 
 def _edges(c: np.ndarray) -> np.ndarray:
