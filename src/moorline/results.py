@@ -102,14 +102,14 @@ class Recorder:
             d["body_pose"].append(np.array([b.pose() for b in s.bodies]))
             d["body_velocity"].append(np.concatenate([w.bv, w.bw], axis=1))
             d["body_force"].append(w.b6F.copy())
-        fl = s.layout.rigid.fl
+        fl = s.layout.fl
         if fl.body.size:
-            d["float_force"].append(w.fw.F.copy())
-            d["float_displacement"].append(w.fw.xi.copy())
+            d["float_force"].append(s.fwork.F.copy())
+            d["float_displacement"].append(s.fwork.xi.copy())
             if fl.jt_child.size:
-                d["joint_slide"].append(w.fw.jt[:, 0].copy())
-                d["joint_slide_rate"].append(w.fw.jt[:, 1].copy())
-                d["pto_power"].append(w.fw.jt[:, 2].copy())
+                d["joint_slide"].append(s.fwork.jt[:, 0].copy())
+                d["joint_slide_rate"].append(s.fwork.jt[:, 1].copy())
+                d["pto_power"].append(s.fwork.jt[:, 2].copy())
 
     def to_dataset(self) -> xr.Dataset:
         s = self.system
@@ -193,7 +193,7 @@ class Recorder:
         if s.bodies:
             coords["body"] = ("body", np.arange(1, len(s.bodies) + 1))
             coords["pose"] = ("pose", ["x", "y", "z", "roll", "pitch", "yaw"])
-        fl = lay.rigid.fl
+        fl = lay.fl
         if fl.body.size:
             coords["floating_body"] = ("floating_body", fl.body + 1, {"long_name": "deck body number"})
             coords["force_component"] = ("force_component", list(FC_NAMES))

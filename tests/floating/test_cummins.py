@@ -50,7 +50,7 @@ def _reference(t, z0):
 
 def test_state_space_fit_finds_the_three_poles():
     s = moorline.System(three_pole_model())
-    fl = s.layout.rigid.fl
+    fl = s.layout.fl
     assert fl.ss_i.tolist() == [2] and fl.ss_j.tolist() == [2]
     assert s.layout.n_radiation == 3
     poles = np.sort(np.linalg.eigvals(fl.ss_A[:3, :3]).real)

@@ -170,11 +170,10 @@ def _convolution(t, F, fw, f, out):
 
 # ------------------------------------------------------------------------------------ loads
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_loads(t, y, dy, R, E, W):
+def floating_loads(t, y, dy, R, E, W, F, FW):
     """Potential-flow, extra and PTO loads of every floating body into W.b6F (A_inf into W.b6M),
-    their components into W.fw.F, and the derivatives of the state-space radiation states."""
-    F = R.fl
-    fw = W.fw
+    their components into FW.F, and the derivatives of the state-space radiation states."""
+    fw = FW
     nf = F.body.size
     rho = E.rho
     comp = fw.F
@@ -282,7 +281,7 @@ def floating_loads(t, y, dy, R, E, W):
             cf[5] += gx * fy - gy * fx
     # joints: slide, rate and the PTO force pair
     for jn in range(F.jt_child.size):
-        joint_state(F, W, jn)
+        joint_state(F, FW, W, jn)
         s = fw.jt[jn, 0]
         sd = fw.jt[jn, 1]
         fp = -F.jt_k[jn] * (s - F.jt_s0[jn]) - F.jt_c[jn] * sd
@@ -334,9 +333,9 @@ def _joint_axis(F, W, jn):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def joint_state(F, W, jn):
+def joint_state(F, FW, W, jn):
     """Slide s [m] and its rate [m/s] of joint ``jn`` from the body kinematics in W, into
-    W.fw.jt[jn, 0:2]."""
+    FW.jt[jn, 0:2]."""
     c = F.jt_child[jn]
     p = F.jt_parent[jn]
     ci = F.body[c]
@@ -356,21 +355,20 @@ def joint_state(F, W, jn):
         rvy = W.bv[ci, 1] - W.bv[pi, 1] - (wz * dx - wx * dz)
         rvz = W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx)
         sd = ex * rvx + ey * rvy + ez * rvz
-    W.fw.jt[jn, 0] = s
-    W.fw.jt[jn, 1] = sd
+    FW.jt[jn, 0] = s
+    FW.jt[jn, 1] = sd
 
 
 # ------------------------------------------------------------------------------------ group motion
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_motion(R, W):
+def floating_motion(R, W, F, FW):
     """Accelerations of the bodies of every group with several members or a joint (one solve per
     group, in reduced coordinates when it has joints) into W.bacc; single bodies are left to the
     rigid-body solve. A joint's child that is off its joint (within an explicit step before the
     projection, or while Newton statics iterate) gets a critically damped pull back onto it at the
     rate F.par[1] (0.3 / dtM: a real eigenvalue -0.3 per step, harmless for every scheme); on the
     joint the pull is zero, so the dynamics are those of the exact constraint."""
-    F = R.fl
-    fw = W.fw
+    fw = FW
     for g in range(F.grp_ptr.size - 1):
         g0 = F.grp_ptr[g]
         nm = F.grp_ptr[g + 1] - g0
@@ -493,14 +491,14 @@ def floating_motion(R, W):
     wc = F.par[1]
     for jn in range(F.jt_child.size):
         e = fw.jerr
-        _joint_violation(F, W, jn, e)
+        _joint_violation(F, FW, W, jn, e)
         ci = F.body[F.jt_child[jn]]
         for a in range(6):
             W.bacc[ci, a] -= wc * wc * e[a] + 2.0 * wc * e[6 + a]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _joint_violation(F, W, jn, out):
+def _joint_violation(F, FW, W, jn, out):
     """How far the child of joint ``jn`` is off its joint: position and rotation-vector errors
     (out[0:6]) and velocity and angular-velocity errors (out[6:12]), from the body kinematics in W."""
     c = F.jt_child[jn]
@@ -508,8 +506,8 @@ def _joint_violation(F, W, jn, out):
     ci = F.body[c]
     a = F.jt_axis[jn]
     d0 = F.jt_d0[jn]
-    Rt = W.fw.m33[1]
-    Rq = W.fw.m33[0]
+    Rt = FW.m33[1]
+    Rq = FW.m33[0]
     quat_to_R(F.jt_q[jn], 0, Rq)
     if p < 0:
         ex = a[0]
@@ -609,14 +607,13 @@ def _factor_pair(F, fw, p, h):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def radiation_trapezoid(y0, y1, h, R, W):
+def radiation_trapezoid(y0, y1, h, R, F, FW):
     """State-space radiation states at the end of an implicit step of length ``h`` by the
     trapezoidal rule, (I - h/2 A) z1 = (I + h/2 A) z0 + h/2 B (v0 + v1), from the body velocities at
     both ends (``y0``, ``y1``) into ``y1``."""
-    F = R.fl
     if F.ss_i.size == 0 or F.ctl[CTL_RADIATION] != RAD_STATE_SPACE:
         return
-    fw = W.fw
+    fw = FW
     zoff = 6 * R.dims[0] + 13 * R.dims[1]
     b = fw.zv
     for p in range(F.ss_i.size):
@@ -651,14 +648,13 @@ def radiation_trapezoid(y0, y1, h, R, W):
 
 # ------------------------------------------------------------------------------------ after a step
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _project_joints(y, R, W):
+def _project_joints(y, R, W, F, FW):
     """Put every joint's child back on its joint: position, orientation, velocity and angular
     velocity from the parent's state and the slide (projected from the child's own state)."""
-    F = R.fl
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
-    Rp = W.fw.m33[0]
+    Rp = FW.m33[0]
     for jn in range(F.jt_child.size):
         c = F.jt_child[jn]
         p = F.jt_parent[jn]
@@ -715,11 +711,10 @@ def _project_joints(y, R, W):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _record_history(t, y, R, W):
+def _record_history(t, y, F, FW):
     """Velocity samples at t_k = k dt up to ``t`` (linear between the last recorded step end and
     this one) into the convolution's ring buffer."""
-    F = R.fl
-    fw = W.fw
+    fw = FW
     nt = fw.hist.shape[0]
     nd = fw.vlast.size
     dt = F.par[0]
@@ -742,32 +737,30 @@ def _record_history(t, y, R, W):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_after_step(t, y, R, W):
+def floating_after_step(t, y, R, W, F, FW):
     """After an accepted step ending at ``t``: children back on their joints; the convolution's
     velocity history."""
-    F = R.fl
     if F.body.size == 0:
         return
     if F.jt_child.size > 0:
-        _project_joints(y, R, W)
+        _project_joints(y, R, W, F, FW)
     if F.ctl[CTL_RADIATION] == RAD_CONVOLUTION:
-        _record_history(t, y, R, W)
+        _record_history(t, y, F, FW)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_restart(t, y, R, W):
+def floating_restart(t, y, R, W, F, FW):
     """Forget the radiation memory (state-space states zero, no velocity history) and restart the
     history at time ``t`` with the current velocities (after the initial conditions, or a state
     set from outside)."""
-    F = R.fl
     if F.body.size == 0:
         return
     zoff = 6 * R.dims[0] + 13 * R.dims[1]
     for i in range(zoff, y.size):
         y[i] = 0.0
-    fw = W.fw
+    fw = FW
     if F.jt_child.size > 0:
-        _project_joints(y, R, W)
+        _project_joints(y, R, W, F, FW)
     # the history starts at the first sample time at or after t (the velocity before counts as 0)
     k = int(math.ceil(t / F.par[0] - 1e-9))
     fw.hctl[0] = k

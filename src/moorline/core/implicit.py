@@ -182,15 +182,15 @@ def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> Implicit
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
+def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """G = (1 - alpha_m) a1 + alpha_m a0 - (1 - alpha_f) f(t + h, x1, v1) - alpha_f fs; leaves y
     at the end-of-step state and its derivative in IW.f0."""
     par = A.par
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
-    newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, W, IW.G)
-    rhs(t + h, y, IW.f0, L, R, P, E, B, Mo, W, par[8], piece)
+    newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
+    rhs(t + h, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
     IW.stat[S_NRHS] += 1
     am = par[0]
     af = par[1]
@@ -211,13 +211,13 @@ def _norm2(v):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit):
+def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit):
     """fs = f(t, y) (the U part), with the stick-slip anchors committed when ``commit``; remembers
     the coupled kinematics it was evaluated with."""
     uoff = 3 * R.dims[0] + 7 * R.dims[1]
     if commit:
         B.ctl[1] = 1
-    rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, A.par[8], piece)
+    rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, A.par[8], piece)
     B.ctl[1] = 0
     IW.stat[S_NRHS] += 1
     for i in range(IW.fs.size):
@@ -248,7 +248,7 @@ def _coupled_moved(IW, Mo, W, t, piece):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
+def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """One generalized-alpha step of length ``h`` in place. Returns 0 on convergence, 1 when the
     Newton iterations did not converge (``y`` then restored to the start of the step).
 
@@ -272,9 +272,9 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     if B.ctl[0] == 1:
         # stick-slip friction anchors are committed at the state at the start of the step (which
         # moves the friction forces: the derivative there is evaluated again)
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, True)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, True)
     elif _coupled_moved(IW, Mo, W, t, piece):
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, False)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, False)
     hp = IW.stat[S_HPREV]
     w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
@@ -290,7 +290,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     gprev = np.inf
     it = 0
     while it < max_iter:
-        _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece)
+        _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece)
         gnorm = _norm2(IW.G)
         if not np.isfinite(gnorm) and it == 0:
             break
@@ -302,7 +302,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
                 for i in range(nd):
                     IW.da[i] *= 0.5
                     IW.a1[i] -= IW.da[i]
-                _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece)
+                _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece)
                 gnorm = _norm2(IW.G)
                 bt += 1
             IW.stat[S_NBACK] += 1
@@ -316,7 +316,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
             prev = 0.0
         gprev = gnorm
         if rebuild and n_built < 10:
-            if step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece) != 0:
+            if step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece) != 0:
                 break
             n_built += 1
             fresh = True
@@ -345,7 +345,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         else:
             conv = theta < 1.0 and theta * big <= (1.0 - theta) * tol
         if conv or big <= 1e-3 * tol:
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, W, IW.G)
+            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
             # the derivative at the end of the step as the scheme's equation gives it (the last
             # evaluation was one increment earlier); af <= 1/2
             am = par[0]
@@ -391,7 +391,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_eval):
+def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, F, FW, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` with generalized-alpha steps of at most
     ``dtM``, never across a knot of the coupled trajectory.
 
@@ -410,7 +410,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
     stat = IW.stat
     if stat[S_AVALID] == 0.0:
         stat[S_HPREV] = 0.0
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, -1, False)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, -1, False)
         for i in range(nd):
             IW.a0[i] = IW.fs[i]
         stat[S_AVALID] = 1.0
@@ -422,7 +422,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
     while t_end - t > tol:
         h, j = knot_step(Mo, j, t, min(h_cur, t_end - t), tol)
         piece = motion_piece(Mo, t + 0.5 * h)
-        if gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece) != 0:
+        if gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece) != 0:
             stat[S_NREJ] += 1
             h_cur = 0.5 * h
             if h_cur < hmin:
@@ -431,7 +431,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
             continue
         stat[S_NSTEP] += 1
         t = step_end(Mo, j, t, h, t_end, tol)
-        floating_after_step(t, y, R, W)
+        floating_after_step(t, y, R, W, F, FW)
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             stat[S_H] = h_cur
@@ -441,7 +441,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
             stat[S_EASY] = 0
     stat[S_H] = h_cur
     if final_eval:
-        rhs(t, y, IW.f0, L, R, P, E, B, Mo, W, 1.0, piece)
+        rhs(t, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, piece)
     return t, 0, -1, piece
 
 

@@ -195,7 +195,7 @@ def dependency_graph(layout: Layout) -> list[set]:
             junction.setdefault(bu, set()).update(junction.get(ru, set()) | {ru})
     # floating bodies solved together (coupling added mass, radiation, joints): each sees what
     # every member of its group sees
-    fl = R.fl
+    fl = layout.fl
     for g in range(len(fl.grp_ptr) - 1):
         units = [n3 + int(R.body_blk[fl.body[f]]) for f in fl.grp_members[fl.grp_ptr[g]:fl.grp_ptr[g + 1]]]
         if len(units) > 1:
@@ -338,7 +338,7 @@ def displace(y0, dq, y, n3, n6, cq):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def newmark(y0, a0, a1, h, par, y1, R, W, G):
+def newmark(y0, a0, a1, h, par, y1, R, F, FW, G):
     """End-of-step state ``y1`` from (y0, a0, a1), with the radiation states of floating bodies
     advanced over the step (:func:`~moorline.core.floating.radiation_trapezoid`); ``G`` is scratch
     for the position increments."""
@@ -353,7 +353,7 @@ def newmark(y0, a0, a1, h, par, y1, R, W, G):
         y1[uoff + i] = y0[uoff + i] + h * ((1.0 - gamma) * a0[i] + gamma * a1[i])
     displace(y0, G, y1, n3, n6, 1.0)
     if R.dims[2] > 0:
-        radiation_trapezoid(y0, y1, h, R, W)
+        radiation_trapezoid(y0, y1, h, R, F, FW)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -495,7 +495,7 @@ def shift_colour(A, cu, k, v, eps, sign):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
+def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """Jacobian of the generalized-alpha residual with respect to a1 at the current iterate
     (IW.f0 must hold the derivative at the iterate), factored in place. Returns the LU status."""
     par = A.par
@@ -516,8 +516,8 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
         for k in range(kmax):
             if not shift_colour(A, cu, k, IW.a1, IW.eps, 1.0):
                 continue
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, W, scratch)
-            rhs(t + h, y, f1, L, R, P, E, B, Mo, W, par[8], piece)
+            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, scratch)
+            rhs(t + h, y, f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
             IW.stat[S_NRHS] += 1
             shift_colour(A, cu, k, IW.a1, IW.eps, -1.0)
             assemble(A, IW, IW.f0, f1, uoff, cu, k, 1.0 - par[0], 1.0 - af, IW.eps)

@@ -116,7 +116,6 @@ class RigidArrays(NamedTuple):
     body_rCG: np.ndarray  # (nb, 3) CG in body axes [m]
     body_V: np.ndarray  # (nb,) volume [m^3]
     body_CdA: np.ndarray  # (nb, 6)
-    fl: object  # core.floating.FloatArrays: the floating bodies among them
 
 
 class PointArrays(NamedTuple):
@@ -233,7 +232,6 @@ class Work(NamedTuple):
     m33: np.ndarray  # (5, 3, 3)
     v6: np.ndarray  # (3, 6)
     dense: np.ndarray  # (6, 7) augmented matrix of the small dense solves
-    fw: object  # core.floating.FloatWork
 
 
 # ------------------------------------------------------------------------ floating bodies
@@ -407,6 +405,9 @@ class Layout:
     coupled_rods: list
     coupled_bodies: list
     env_ic: EnvArrays  # env with the water kinematics of the initial-condition solve (waves off)
+    #: the floating bodies (their own arguments of the kernels, so that the rigid-body and work
+    #: tuples every kernel receives stay small: numba passes a tuple's arrays field by field)
+    fl: FloatArrays = None
 
     @property
     def n_state(self) -> int:
@@ -455,7 +456,10 @@ class Layout:
                     bv=z((nb, 3)), bw=z((nb, 3)), bU=z((nb, 3)), fk=z((max(nn, nrn, npnt, nb, 1), 8)),
                     b6F=z((nb, 6)), b6M=z((nb, 6, 6)), bacc=z((nb, 6)), pr=z((npnt, 3)), pv=z((npnt, 3)),
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
-                    ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)), fw=new_float_work(R.fl))
+                    ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)))
+
+    def new_float_work(self) -> FloatWork:
+        return new_float_work(self.fl)
 
 
 def effective_depth(model: Model) -> float:
@@ -613,7 +617,7 @@ def build_layout(model: Model, floating=None) -> Layout:
         fl, exc = floating
         fl = _place_floating(fl, row, nblk, body_blk)
     rigid = _rigid_arrays(model, np.array([row, nblk, fl.ss_B.size], dtype=np.int64), rod_blk, rod_row, rod_cpl,
-                          body_blk, body_cpl, fl)
+                          body_blk, body_cpl)
     e = model.env
     muT, muA, mc, cv = e.friction_coefficients()
     fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
@@ -632,7 +636,7 @@ def build_layout(model: Model, floating=None) -> Layout:
     seabed = Seabed(*grid, np.zeros((nn, 3)), np.zeros((nn, 2)), np.zeros(3, dtype=np.int64))
     return Layout(lines, rigid, points, env, seabed, row, nblk, off, N, line_L,
                   [ln.line_type for ln in model.lines], model.coupled_points, model.coupled_rods, model.coupled_bodies,
-                  env._replace(water=water_ic, exc=no_excitation(exc.Xr.shape[1])))
+                  env._replace(water=water_ic, exc=no_excitation(exc.Xr.shape[1])), fl)
 
 
 def _water(model: Model, depth: float, n_ext: int):
@@ -728,7 +732,7 @@ def _place_floating(fl: FloatArrays, n3: int, n6: int, body_blk) -> FloatArrays:
     return fl._replace(dof_y=dof_y)
 
 
-def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_cpl, fl) -> RigidArrays:
+def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_cpl) -> RigidArrays:
     nr = len(model.rods)
     nb = len(model.bodies)
     f = np.zeros
@@ -768,7 +772,6 @@ def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_
         body_V=np.array([b.V if k else 0.0 for b, k in zip(bodies, keep, strict=True)], dtype=float),
         body_CdA=np.array([b.CdA if k else np.zeros(6) for b, k in zip(bodies, keep, strict=True)],
                           dtype=float).reshape(nb, 6),
-        fl=fl,
     )
 
 

@@ -93,8 +93,9 @@ class System:
             self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
             self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
         # a joint's child is pulled back onto its joint at 0.3 / dtM (see core.floating.floating_motion)
-        self.layout.rigid.fl.par[1] = JOINT_PULL / self.dtM
+        self.layout.fl.par[1] = JOINT_PULL / self.dtM
         self.work = self.layout.new_work()
+        self.fwork = self.layout.new_float_work()
         n = self.layout.n_state
         self.y = np.zeros(n)
         self._S = np.zeros((5, n))
@@ -163,17 +164,18 @@ class System:
 
     # ------------------------------------------------------------------ evaluation
     def _kernel_arrays(self):
-        """(lines, rods, points, env, seabed, work): what every kernel call takes."""
+        """(lines, rods, points, env, seabed, work, floating, floating work): what every kernel
+        call takes."""
         lay = self.layout
-        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work
+        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work, lay.fl, self.fwork
 
     def _evaluate(self, piece: int = -1) -> None:
         """Evaluate every load at the current state and time (refreshes what the views report).
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
         dy = self._S[0]
-        L, R, P, E, B, W = self._kernel_arrays()
-        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, 1.0, piece)
+        L, R, P, E, B, W, F, FW = self._kernel_arrays()
+        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, F, FW, 1.0, piece)
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
@@ -226,7 +228,7 @@ class System:
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
-        floating_restart(0.0, self.y, self.layout.rigid, self.work)
+        floating_restart(0.0, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         self._evaluate()
         # friction springs start relaxed at the initial position of every node
@@ -324,12 +326,12 @@ class System:
 
     def _advance(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
-        L, R, P, E, B, W = self._kernel_arrays()
+        L, R, P, E, B, W, F, FW = self._kernel_arrays()
         last_stage = self.loads_at == "last_stage"
         if self.scheme == Scheme.GENALPHA:
             A, IW = self._implicit()
             t, status, row, piece = advance_implicit(self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion,
-                                                     W, MAX_NODE_SPEED, True)
+                                                     W, F, FW, MAX_NODE_SPEED, True)
             self.t = t
             if status == 1:
                 raise self._instability(t, int(row), "")
@@ -338,7 +340,7 @@ class System:
             self._check_grid()
             return
         t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P,
-                                   E, B, motion, W, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
+                                   E, B, motion, W, F, FW, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
@@ -495,7 +497,7 @@ class System:
         self._restart()
 
     def _restart(self) -> None:
-        floating_restart(self.t, self.y, self.layout.rigid, self.work)
+        floating_restart(self.t, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         if self.initialized:
             self._evaluate()
