@@ -190,6 +190,15 @@ def cmd_run(args) -> int:
         tb = ds.line_tension_b.sel(line=ln.number).values
         print(f"  line {ln.number}: fairlead tension min {tb.min() / 1e3:.1f} kN, mean {tb.mean() / 1e3:.1f} kN, "
               f"max {tb.max() / 1e3:.1f} kN")
+    fl = system.layout.fl
+    for b in fl.body:
+        pose = ds.body_pose.sel(body=int(b) + 1).values
+        print(f"  floating body {int(b) + 1}: surge mean {pose[:, 0].mean():.3f} m, std heave {pose[:, 2].std():.3f} "
+              f"m, pitch {np.degrees(pose[:, 4]).std():.3f} deg, yaw {np.degrees(pose[:, 5]).std():.3f} deg")
+    if "pto_power" in ds:
+        for j in ds.joint.values:
+            P = ds.pto_power.sel(joint=j).values
+            print(f"  joint {j}: mean PTO power {P.mean() / 1e3:.2f} kW, max {P.max() / 1e3:.1f} kW")
     for p in written:
         print(f"  wrote {p}")
     return 0
