@@ -36,6 +36,7 @@ import math
 from numba import njit
 
 from .layout import (
+    CTL_QS_MOORING,
     CTL_RADIATION,
     EXC_OFF,
     EXC_SUM,
@@ -43,6 +44,7 @@ from .layout import (
     FC_EXCITATION,
     FC_EXTRA,
     FC_HYDROSTATIC,
+    FC_MOORING,
     FC_MORISON,
     FC_PTO,
     FC_RADIATION,
@@ -302,6 +304,20 @@ def floating_loads(t, y, dy, R, E, W, F, FW):
             pf[3] -= fp * (dy_ * ez - dz * ey)
             pf[4] -= fp * (dz * ex - dx * ez)
             pf[5] -= fp * (dx * ey - dy_ * ex)
+    # the quasi-static mooring, linearised about the pose of the step's start
+    if F.ctl[CTL_QS_MOORING] == 1:
+        pose = FW.qpose
+        for f in range(nf):
+            i = F.body[f]
+            for c in range(3):
+                pose[6 * f + c] = W.br[i, c]
+            rel_angles(W.bR[i], FW.eye3, pose, 6 * f + 3)
+        nd = 6 * nf
+        for a in range(nd):
+            s = F.ql_F[a]
+            for b in range(nd):
+                s -= F.ql_K[a, b] * (pose[b] - F.ql_x0[b])
+            comp[a // 6, FC_MOORING, a % 6] = s
     # into the bodies' loads and mass matrices
     for f in range(nf):
         i = F.body[f]
