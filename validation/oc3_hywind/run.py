@@ -67,6 +67,8 @@ CONFIGS = {
 #: free-decay initial displacements (from the equilibrium) [m or deg], durations and output steps [s]
 DECAYS = {"surge": (0, 10.0, 600.0, 0.5), "heave": (2, 3.0, 200.0, 0.25), "pitch": (4, 5.0, 300.0, 0.25),
           "yaw": (5, 15.0, 120.0, 0.1)}
+#: --quick: durations [s] of the untuned decays, the tuned and the anchor-tension yaw decays, the wave run
+QUICK = {"surge": 100.0, "heave": 70.0, "pitch": 80.0, "yaw": 30.0, "yaw_tuned": 20.0, "anchor": 20.0, "wave": 90.0}
 WAVE_H, WAVE_T = 10.74, 14.3
 QS_INTERVAL = 0.05  # [s] quasi-static lines re-solved and re-linearised every QS_INTERVAL
 
@@ -295,8 +297,10 @@ def moorpy_statics(layout: str, pose):
 
 
 # ------------------------------------------------------------------ regular wave
-def regular_wave(ds, config: str, duration: float, dt: float = 0.25, **kw):
-    waves = Waves.regular(WAVE_H, WAVE_T, heading=0.0, ramp=3 * WAVE_T)
+def regular_wave(ds, config: str, duration: float, dt: float = 0.25, ramp=3 * WAVE_T, fit_periods=10, **kw):
+    """Surge in a regular wave (on the body only: FAST v8's MoorDyn had no wave kinematics on the lines):
+    first-harmonic amplitude and mean over the last ``fit_periods`` periods."""
+    waves = Waves.regular(WAVE_H, WAVE_T, heading=0.0, ramp_time=ramp)
     s = system(ds, config, waves=waves, **kw)
     x0 = s.bodies[0].pose()[0]
     t = np.arange(0.0, duration + 1e-9, dt)
@@ -304,7 +308,7 @@ def regular_wave(ds, config: str, duration: float, dt: float = 0.25, **kw):
     for k in range(1, t.size):
         s.step(None, None, t[k - 1], dt)
         x[k] = s.bodies[0].pose()[0] - x0
-    sel = t >= t[-1] - 5 * WAVE_T
+    sel = t >= t[-1] - fit_periods * WAVE_T
     w = 2 * np.pi / WAVE_T
     A = np.column_stack([np.ones(sel.sum()), np.cos(w * t[sel]), np.sin(w * t[sel])])
     c, *_ = np.linalg.lstsq(A, x[sel], rcond=None)
@@ -336,16 +340,15 @@ def main(argv=None):
 
     configs = list(CONFIGS)
     dofs = list(DECAYS)
-    scale = 0.5 if quick else 1.0
     periods = {d: {} for d in dofs}
     zetas = {d: {} for d in dofs}
     histories = {}
     for dof in dofs:
         for c in configs:
             t0 = time.time()
-            dur = DECAYS[dof][2] * scale
+            dur = QUICK[dof] if quick else DECAYS[dof][2]
             t, x, _, s = decay(ds, c, dof, duration=dur)
-            periods[dof][c], zetas[dof][c] = period_and_damping(t, x, n_cycles=2 if quick else 3)
+            periods[dof][c], zetas[dof][c] = period_and_damping(t, x, n_cycles=1 if quick else 3)
             histories[(dof, c)] = (t, x)
             timing[f"decay_{dof}_{c}_s"] = time.time() - t0
             print(f"{dof:6s} {c:20s} T = {periods[dof][c]:8.3f} s  zeta = {zetas[dof][c]:.4f}  "
@@ -369,8 +372,8 @@ def main(argv=None):
     for c in configs:
         layout, _, _, _, damp = CONFIGS[c]
         kw = {"yaw_k": TUNE_K[layout], "yaw_damping": (TUNE_B_LIN, TUNE_B_QUAD) if damp else None}
-        t, x, _, _ = decay(ds, c, "yaw", duration=DECAYS["yaw"][2] * scale, **kw)
-        tuned_T[c], tuned_z[c] = period_and_damping(t, x, n_cycles=2 if quick else 3)
+        t, x, _, _ = decay(ds, c, "yaw", duration=QUICK["yaw_tuned"] if quick else DECAYS["yaw"][2], **kw)
+        tuned_T[c], tuned_z[c] = period_and_damping(t, x, n_cycles=1 if quick else 3)
         tuned_hist[c] = (t, x)
         print(f"tuned yaw {c:20s} T = {tuned_T[c]:8.3f} s  zeta = {tuned_z[c]:.4f}", flush=True)
     res["natural_period_s_tuned"] = {"yaw": tuned_T}
@@ -383,7 +386,8 @@ def main(argv=None):
         layout, _, _, _, damp = CONFIGS[c]
         kw = {"yaw_k": 0.0 if layout == "bridle" else TUNE_K["single"] - TUNE_K["bridle"],
               "yaw_damping": (TUNE_B_LIN, TUNE_B_QUAD) if damp else None}
-        t, x, ta, _ = decay(ds, c, "yaw", amplitude=15.0, duration=(30.0 if quick else 60.0), tensions=True, **kw)
+        dur = QUICK["anchor"] if quick else 60.0
+        t, x, ta, _ = decay(ds, c, "yaw", amplitude=15.0, duration=dur, tensions=True, **kw)
         amax[c], amin[c], a0[c] = float(ta.max()), float(ta.min()), float(ta[0])
         ten_hist[c] = (t, x, ta)
         print(f"anchor tension {c:20s} max {amax[c] / 1e3:8.1f} kN  min {amin[c] / 1e3:8.1f} kN", flush=True)
@@ -396,7 +400,8 @@ def main(argv=None):
     wave_hist = {}
     for c in configs:
         t0 = time.time()
-        t, x, w = regular_wave(ds, c, 10 * WAVE_T if quick else 25 * WAVE_T)
+        t, x, w = regular_wave(ds, c, QUICK["wave"] if quick else 25 * WAVE_T, ramp=WAVE_T if quick else 3 * WAVE_T,
+                               fit_periods=3 if quick else 10)
         wave[c] = w
         wave_hist[c] = (t, x)
         timing[f"wave_{c}_s"] = time.time() - t0
@@ -407,9 +412,48 @@ def main(argv=None):
     out = HERE / ("results_quick.json" if quick else "results.json")
     out.write_text(json.dumps(res, indent=1, default=float) + "\n")
     print(f"wrote {out} in {timing['total_s']:.0f} s")
+    (HERE / ("tables_quick.md" if quick else "tables.md")).write_text(tables(res))
     if not quick:
         figures(res, histories, tuned_hist, ten_hist, wave_hist)
     return res
+
+
+def tables(res) -> str:
+    """The README's tables, from the results."""
+    cfg = list(CONFIGS)
+    out = ["| DOF | " + " | ".join(cfg) + " |", "|---|" + "---|" * len(cfg)]
+    for dof in DECAYS:
+        out.append(f"| {dof}: T [s] / zeta | " + " | ".join(
+            f"{res['natural_period_s'][dof][c]:.2f} / {res['damping_ratio'][dof][c]:.3f}" for c in cfg) + " |")
+    out.append("| yaw tuned (Table 3): T [s] / zeta | " + " | ".join(
+        f"{res['natural_period_s_tuned']['yaw'][c]:.2f} / {res['damping_ratio_tuned']['yaw'][c]:.3f}"
+        for c in cfg) + " |")
+    out.append("| yaw stiffness from the untuned decay [MN m/rad] | " + " | ".join(
+        f"{res['yaw_stiffness_from_decay_nm_per_rad'][c] / 1e6:.1f}" for c in cfg) + " |")
+    out.append("| lacking against dyn_bridle [MN m/rad] | " + " | ".join(
+        f"{res['yaw_stiffness_lacking_vs_dyn_bridle_nm_per_rad'][c] / 1e6:.1f}" for c in cfg) + " |")
+    out.append("| line 1 anchor tension, 15 deg yaw decay: release / max / min [kN] | " + " | ".join(
+        f"{res['anchor_tension_release_n'][c] / 1e3:.0f} / {res['anchor_tension_max_n'][c] / 1e3:.0f} / "
+        f"{res['anchor_tension_min_n'][c] / 1e3:.0f}" for c in cfg) + " |")
+    w = res["regular_wave_surge"]
+    out.append(f"| regular wave H {w['H_m']} m T {w['T_s']} s: surge amplitude / mean [m] | " + " | ".join(
+        f"{w[c]['amplitude_m']:.2f} / {w[c]['mean_m']:.2f}" for c in cfg) + " |")
+    out += ["", "| statics (body at its quasi-static equilibrium) | ours single | MoorPy single | ours bridle | "
+            "MoorPy bridle |", "|---|---|---|---|---|"]
+    st = res["statics"]
+    for key, lab, sc in (("yaw_stiffness", "yaw stiffness [MN m/rad]", 1e-6),
+                         ("surge_stiffness", "surge stiffness [kN/m]", 1e-3),
+                         ("heave_stiffness", "heave stiffness [kN/m]", 1e-3),
+                         ("pitch_stiffness", "pitch stiffness [MN m/rad]", 1e-6)):
+        row = [f"{st[lay][key] * sc:.4f} | " + (f"{st[lay]['moorpy'][key] * sc:.4f}" if st[lay]["moorpy"] else "-")
+               for lay in ("single", "bridle")]
+        out.append(f"| {lab} | " + " | ".join(row) + " |")
+    for key, lab in (("fairlead_tension", "line 1 fairlead tension [kN]"),
+                     ("anchor_tension", "line 1 anchor tension [kN]")):
+        row = [f"{st[lay][key][0] / 1e3:.3f} | " + (f"{st[lay]['moorpy'][key][0] / 1e3:.3f}" if st[lay]["moorpy"]
+                                                    else "-") for lay in ("single", "bridle")]
+        out.append(f"| {lab} | " + " | ".join(row) + " |")
+    return "\n".join(out) + "\n"
 
 
 def figures(res, histories, tuned_hist, ten_hist, wave_hist):
@@ -471,7 +515,8 @@ def figures(res, histories, tuned_hist, ten_hist, wave_hist):
     for c in configs:
         t, x = wave_hist[c]
         col, ls = styles[c]
-        ax.plot(t, x, color=col, ls=ls, lw=1.2, label=f"{c}: amplitude {res['regular_wave_surge'][c]['amplitude_m']:.2f} m")
+        amp = res["regular_wave_surge"][c]["amplitude_m"]
+        ax.plot(t, x, color=col, ls=ls, lw=1.2, label=f"{c}: amplitude {amp:.2f} m")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("surge [m]")
     ax.set_title(f"regular wave H {WAVE_H} m, T {WAVE_T} s")

@@ -1,0 +1,92 @@
+"""Validation gallery II: each study's ``--quick`` run in a subprocess, then its results_quick.json.
+
+The checks are physics, with tolerances stated: what a run that went wrong (a mooring that does not hold,
+a decay that does not decay, friction that does nothing) would fail.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+SHARED = ROOT.parent / "shared" / "data"
+CONFIGS = ("qs_single", "qs_bridle", "dyn_single", "dyn_bridle", "dyn_bridle_implicit")
+
+
+def _run(study: str) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    script = ROOT / "validation" / study / "run.py"
+    out = ROOT / "validation" / study / "results_quick.json"
+    out.unlink(missing_ok=True)
+    proc = subprocess.run([sys.executable, str(script), "--quick"], cwd=ROOT, env=env, capture_output=True,
+                          text=True, timeout=1800)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return json.loads(out.read_text())
+
+
+@pytest.mark.slow
+def test_oc3_hywind_quick():
+    pytest.importorskip("capytaine")
+    r = _run("oc3_hywind")
+    for key in ("natural_period_s", "damping_ratio"):
+        assert set(r[key]) == {"surge", "heave", "pitch", "yaw"}
+        for dof in r[key]:
+            assert set(r[key][dof]) == set(CONFIGS)
+    T, z = r["natural_period_s"], r["damping_ratio"]
+    # the same platform on five mooring models: surge, heave and pitch periods within 10 % of each other (the
+    # full run: within 2 %); the quick runs fit one cycle
+    for dof in ("surge", "heave", "pitch"):
+        v = np.array([T[dof][c] for c in CONFIGS])
+        assert np.all(np.isfinite(v)) and v.max() / v.min() < 1.10, (dof, v)
+    # heave: hydrostatics plus the taut lines, T = 2 pi sqrt((m + A33) / (C33 + K33)) is about 28.6 s
+    assert 25.0 < T["heave"]["dyn_bridle"] < 32.0
+    # yaw: the bridles are stiffer than single lines (quasi-static stiffness about 3x, period about 0.6x)
+    ky = r["yaw_stiffness_nm_per_rad"]
+    assert ky["bridle"] > 2.0 * ky["single"]
+    assert T["yaw"]["dyn_bridle"] < 0.8 * T["yaw"]["dyn_single"]
+    # quasi-static single lines have no yaw damping at all (no drag on the lines, none on the hull in yaw):
+    # below 0.5 %; the dynamic bridles' drag damps yaw by several %
+    assert z["yaw"]["qs_single"] < 0.005
+    assert z["yaw"]["dyn_bridle"] > 0.02
+    # ours against MoorPy at the same pose: yaw stiffness within 1 % (measured 1e-12)
+    for lay in ("single", "bridle"):
+        mp = r["statics"][lay]["moorpy"]
+        if mp is not None:
+            assert ky[lay] == pytest.approx(mp["yaw_stiffness"], rel=0.01)
+    # the anchor tension in the 15 deg yaw decay is above its still-water value (the lines stretch), finite
+    for c in CONFIGS:
+        assert r["anchor_tension_max_n"][c] > r["anchor_tension_release_n"][c] * 0.999
+        assert 1.0e5 < r["anchor_tension_max_n"][c] < 1.0e7
+
+
+@pytest.mark.slow
+def test_volturnus_seabed_quick():
+    if not (SHARED / "volturnus_s" / "IEA-15-240-RWT-UMaineSemi.1").exists():
+        pytest.skip("../shared/data/volturnus_s (the public VolturnUS-S set) is not present")
+    r = _run("volturnus_seabed")
+    f = r["fairlead_tension_mean_n"]
+    for b in f:
+        assert set(f[b]) == {"wind", "waves"}
+        for load in f[b]:
+            assert set(f[b][load]) == {"with", "without"}
+            assert 1.0e5 < f[b][load]["with"] < 1.0e7
+    # the thrust pushes along +x, away from line 1's anchor: its fairlead tension rises over the wave case's
+    # (no mean load) by at least 30 % on the flat seabed
+    assert f["flat"]["wind"]["without"] > 1.3 * f["flat"]["waves"]["without"]
+    # the upslope (line 1's anchor 141 m shallower) slackens line 1: lower tension than flat, at least 10 %
+    assert f["upslope"]["waves"]["without"] < 0.9 * f["flat"]["waves"]["without"]
+    # the single-line friction cases: the axial pull equals mu_kA w L_grounded (both models, 10 %: the suspended
+    # line's drag at 0.2 m/s and the touchdown node's partial contact); the transverse friction moment, the
+    # difference from the frictionless sweep, is mu_kT w sum(r lam) within 25 % (the chain near the anchor
+    # moves slower than the creep velocity v_c = mc N / cv and carries less than mu N)
+    c = r["friction_cases"]
+    for fr in ("directional", "stickslip"):
+        assert c[f"axial_{fr}"]["ratio"] == pytest.approx(1.0, abs=0.10)
+        assert c[f"transverse_{fr}"]["ratio"] == pytest.approx(1.0, abs=0.25)

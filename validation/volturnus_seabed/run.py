@@ -1,0 +1,501 @@
+"""VolturnUS-S on semi-taut chain-polyester moorings over sloped seabeds, with and without seabed friction.
+
+Validation gallery II, study 2 (Housner et al., J. Phys. Conf. Ser. 2022, seabed bathymetry and friction in
+MoorDyn): the IEA 15 MW VolturnUS-S semisubmersible (public WAMIT set, ElastoDyn mass properties, HydroDyn's
+quadratic damping, from ../shared/data/volturnus_s) on three 500 m chain + 1000 m polyester lines in 850 m,
+over a flat seabed and 12.5 % up-, down- and side-slopes; a constant wind thrust and a regular wave; MoorDyn-F's
+directional saturated-damping friction and moorline's stick-slip friction; and the two single-line friction
+cases (axial drag of a released line, transverse sweep around its anchor).
+
+    PYTHONPATH=src python validation/volturnus_seabed/run.py [--quick]
+
+Writes results.json (``--quick``: results_quick.json, shorter runs, no figures) and the figures beside this
+file. Every assumption is in README.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import re
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import moorline
+from moorline import hydro
+from moorline.io import read_deck
+from moorline.model.types import Bathymetry
+from moorline.model.water import Waves
+
+HERE = Path(__file__).resolve().parent
+DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "volturnus_s"
+STEM = DATA / "IEA-15-240-RWT-UMaineSemi"
+RHO, G, DEPTH = 1025.0, 9.80665, 850.0
+
+# ------------------------------------------------------------------ load cases (issue 17, the paper)
+AIR_RHO, ROTOR_RADIUS, WIND_SPEED = 1.225, 120.0, 9.0
+#: thrust coefficient of the IEA-15-240-RWT below rated (its design value, Gaertner et al. 2020)
+CT = 0.80
+THRUST = 0.5 * AIR_RHO * np.pi * ROTOR_RADIUS**2 * WIND_SPEED**2 * CT  # [N], about 1.79 MN
+HUB_HEIGHT = 150.0  # [m]
+WAVE_H, WAVE_T, WAVE_HEADING = 9.3, 14.9, 90.0
+SLOPE = 0.125
+#: MoorDyn-F friction of the paper: transverse/axial kinetic, static/kinetic ratio (1.33/1.0 = 0.92/0.69),
+#: saturated-damping creep constant [N s/m]
+MU_KT, MU_KA, MC, CV = 1.0, 0.69, 1.33, 1.0e6
+BATHYMETRIES = ("flat", "upslope", "downslope", "sideslope")
+
+
+# ------------------------------------------------------------------ the platform from the public files
+def _value(text: str, key: str) -> float:
+    m = re.search(rf"^\s*(\S+)\s+{key}\s", text, re.MULTILINE)
+    if m is None:
+        raise KeyError(f"{key} not found")
+    return float(m.group(1))
+
+
+def _table(path: Path, ncol: int) -> np.ndarray:
+    rows = []
+    for line in path.read_text().splitlines():
+        parts = line.split()
+        if len(parts) == ncol:
+            try:
+                rows.append([float(p) for p in parts])
+            except ValueError:
+                continue
+    return np.array(rows)
+
+
+def mass_properties():
+    """Platform, tower, yaw bearing, nacelle, hub and blades from the ElastoDyn files as one rigid body:
+    mass [kg], centre of mass [m], principal inertia about it [kg m^2] (products of inertia neglected), and the
+    parts. x downwind (the rotor is upwind, at -x), z up from the still-water line."""
+    ed = (DATA / "IEA-15-240-RWT-UMaineSemi_ElastoDyn.dat").read_text()
+    v = {k: _value(ed, k) for k in ("PtfmMass", "PtfmCMzt", "PtfmRIner", "PtfmPIner", "PtfmYIner", "TowerHt",
+                                     "TowerBsHt", "YawBrMass", "NacMass", "NacCMxn", "NacCMzn", "NacYIner",
+                                     "HubMass", "HubIner", "OverHang", "Twr2Shft", "ShftTilt", "TipRad", "HubRad")}
+    precone = np.radians(_value(ed, r"PreCone\(1\)"))
+    tilt = np.radians(v["ShftTilt"])
+    tw = _table(DATA / "IEA-15-240-RWT-UMaineSemi_ElastoDyn_tower.dat", 4)
+    tw = tw[(tw[:, 0] >= 0) & (tw[:, 0] <= 1) & (tw[:, 1] > 100)]  # HtFract, TMassDen rows
+    z_t = v["TowerBsHt"] + tw[:, 0] * (v["TowerHt"] - v["TowerBsHt"])
+    m_tower = np.trapezoid(tw[:, 1], z_t)
+    zg_tower = np.trapezoid(tw[:, 1] * z_t, z_t) / m_tower
+    i_tower = np.trapezoid(tw[:, 1] * (z_t - zg_tower) ** 2, z_t)  # about its CM, horizontal axes
+    bl = _table(DATA / "IEA-15-240-RWT_ElastoDyn_blade.dat", 6)
+    bl = bl[(bl[:, 0] >= 0) & (bl[:, 0] <= 1)]
+    r_b = v["HubRad"] + bl[:, 0] * (v["TipRad"] - v["HubRad"])  # from the rotor apex along the blade
+    m_blade = np.trapezoid(bl[:, 3], r_b)
+    r_cm = np.trapezoid(bl[:, 3] * r_b, r_b) / m_blade
+    i_polar = 3 * np.trapezoid(bl[:, 3] * (r_b * np.cos(precone)) ** 2, r_b)  # rotor about its shaft
+    top = v["TowerHt"]
+    apex = np.array([v["OverHang"] * np.cos(tilt), 0.0, top + v["Twr2Shft"] + v["OverHang"] * np.sin(tilt)])
+    # (OverHang < 0 and ShftTilt < 0: the apex is upwind and above the shaft's tower-top height: 150 m)
+    blades_cm = apex + np.array([r_cm * np.sin(precone), 0.0, 0.0])
+    parts = {  # name: (mass, centre of mass, own inertia about its CM (xx, yy, zz))
+        "platform": (v["PtfmMass"], np.array([0.0, 0.0, v["PtfmCMzt"]]),
+                     np.array([v["PtfmRIner"], v["PtfmPIner"], v["PtfmYIner"]])),
+        "tower": (m_tower, np.array([0.0, 0.0, zg_tower]), np.array([i_tower, i_tower, 0.0])),
+        "yaw_bearing": (v["YawBrMass"], np.array([0.0, 0.0, top]), np.zeros(3)),
+        "nacelle": (v["NacMass"], np.array([v["NacCMxn"], 0.0, top + v["NacCMzn"]]),
+                    np.array([0.0, 0.0, v["NacYIner"]])),
+        "hub": (v["HubMass"], apex, np.array([v["HubIner"], 0.0, 0.0])),
+        "blades": (3 * m_blade, blades_cm, np.array([i_polar, 0.5 * i_polar, 0.5 * i_polar])),
+    }
+    m = sum(p[0] for p in parts.values())
+    cg = sum(p[0] * p[1] for p in parts.values()) / m
+    inertia = np.zeros(3)
+    for mi, ri, ii in parts.values():
+        d = ri - cg
+        inertia += ii + mi * np.array([d[1] ** 2 + d[2] ** 2, d[0] ** 2 + d[2] ** 2, d[0] ** 2 + d[1] ** 2])
+    return m, cg, inertia, {k: {"mass_kg": p[0], "cm_m": p[1].tolist()} for k, p in parts.items()}
+
+
+def add_bquad() -> np.ndarray:
+    """HydroDyn's AddBQuad (6x6) from the HydroDyn file."""
+    lines = (DATA / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text().splitlines()
+    i = next(k for k, ln in enumerate(lines) if "AddBQuad" in ln)
+    return np.array([[float(x) for x in ln.split()[:6]] for ln in lines[i:i + 6]])
+
+
+def coefficients():
+    """The public WAMIT set: the .hst is buoyancy only (the WAMIT run had its centre of gravity at the origin,
+    README_HydroData), displaced volume HydroDyn's PtfmVol0, centre of buoyancy on the axis."""
+    hd = (DATA / "IEA-15-240-RWT-UMaineSemi_HydroDyn.dat").read_text()
+    vol = _value(hd, "PtfmVol0")
+    return hydro.read_wamit(STEM, rho=RHO, g=G, cog=[0.0, 0.0, 0.0], reference_point=[0.0, 0.0, 0.0],
+                            displaced_volume=vol, center_of_buoyancy=[0.0, 0.0, 0.0])
+
+
+# ------------------------------------------------------------------ seabed and model
+def bathymetry(kind: str):
+    """Planar 12.5 % slopes through 850 m under the platform, on a 2.8 km square grid (100 m ticks): upslope
+    rises towards line 1's anchor (-x), downslope falls towards it, sideslope rises towards +y (across line
+    1). Over the anchor footprint (1130 m radius) the depth spans about 700-1000 m."""
+    if kind == "flat":
+        return None
+    x = np.arange(-1400.0, 1400.0 + 1e-9, 100.0)
+    X, Y = np.meshgrid(x, x)
+    depth = {"upslope": DEPTH + SLOPE * X, "downslope": DEPTH - SLOPE * X, "sideslope": DEPTH - SLOPE * Y}[kind]
+    return Bathymetry(x, x, -depth, source=f"{kind} (run.py)")
+
+
+def set_friction(m, friction: str, mc: float = MC) -> None:
+    env = m.env
+    if friction == "without":
+        env.friction, env.mu, env.mu_kT, env.mu_kA = "isotropic", 0.0, 0.0, 0.0
+    elif friction in ("directional", "stickslip"):
+        env.friction, env.mu_kT, env.mu_kA, env.mc, env.cv = friction, MU_KT, MU_KA, mc, CV
+    else:
+        raise ValueError(friction)
+
+
+def build(ds, bathy: str, friction: str, waves=None):
+    m = read_deck(HERE / "volturnus_850m.dat")
+    mass, cg, inertia, _ = mass_properties()
+    b = m.bodies[0]
+    b.m, b.rCG, b.I = mass, cg, inertia
+    m.env.bathymetry = bathymetry(bathy)
+    if m.env.bathymetry is not None:  # anchors on the local seabed, the junctions start 50 m above it
+        for p in m.points:
+            if p.kind.name in ("FIXED", "FREE"):
+                p.r[2] = float(m.env.bathymetry.height(p.r[0], p.r[1])) + (50.0 if p.kind.name == "FREE" else 0.0)
+    set_friction(m, friction)
+    m.add_hydro([0], ds, ss_max_order=12)
+    m.add_floating(0, quadratic_damping=add_bquad())
+    m.env.waves = waves
+    m.env.waves_on_lines = True
+    return m
+
+
+def thrust_load(scale: float) -> np.ndarray:
+    """The rotor thrust along +x at the hub: force and moment about the reference point."""
+    return scale * np.array([THRUST, 0.0, 0.0, 0.0, HUB_HEIGHT * THRUST, 0.0])
+
+
+def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: float = 0.5, ramp: float = 60.0):
+    """Line-1 fairlead tension history, and the line-1 segment tensions at the end."""
+    waves = Waves.regular(WAVE_H, WAVE_T, heading=WAVE_HEADING, ramp_time=3 * WAVE_T) if loading == "waves" else None
+    s = moorline.System(build(ds, bathy, friction, waves=waves))
+    s.init()
+    t = np.arange(0.0, duration + 1e-9, dt)
+    ten = np.zeros(t.size)
+    pose = np.zeros((t.size, 6))
+    ten[0] = s.line_end_tensions()[3, 1]
+    pose[0] = s.bodies[0].pose()
+    for k in range(1, t.size):
+        if loading == "wind":
+            s.layout.fl.Fc[0][:] = thrust_load(min(1.0, t[k - 1] / ramp))
+        s.step(None, None, t[k - 1], dt)
+        ten[k] = s.line_end_tensions()[3, 1]  # line 4: line 1's polyester, its end B the fairlead
+        pose[k] = s.bodies[0].pose()
+    chain = s.lines[0]
+    profile = {"node_z": chain.node_positions()[:, 2].tolist(), "node_xy": chain.node_positions()[:, :2].tolist(),
+               "segment_tension": chain.segment_tensions().tolist(),
+               "seabed_z": seabed_height(s, chain.node_positions()).tolist()}
+    return t, ten, pose, profile
+
+
+def seabed_height(s, nodes):
+    bt = s.model.env.bathymetry
+    return np.full(len(nodes), -DEPTH) if bt is None else bt.height(nodes[:, 0], nodes[:, 1])
+
+
+# ------------------------------------------------------------------ the single-line friction cases
+def single_line(friction: str, *, anchor_free: bool):
+    """Line 1 alone (chain + polyester, anchor at -1130 m, fairlead a coupled point at -58 m, flat 850 m),
+    static friction = kinetic (mc = 1)."""
+    full = read_deck(HERE / "volturnus_850m.dat")
+    m = moorline.model.Model()
+    m.env.depth, m.env.rho, m.env.g = DEPTH, RHO, G
+    m.options.tScheme, m.options.dtM, m.options.ICNewton = "GenAlpha", 0.05, 1
+    for name, lt in full.line_types.items():
+        m.line_types[name] = lt
+    a = m.add_point("free" if anchor_free else "fixed", (-1130.0, 0.0, -DEPTH))
+    j = m.add_point("free", (-635.0, 0.0, -800.0))
+    f = m.add_point("coupled", (-58.0, 0.0, -14.0))
+    m.add_line("chain", a, j, L=500.0, N=25)
+    m.add_line("polyester", j, f, L=1000.0, N=20)
+    set_friction(m, friction, mc=1.0)
+    return m
+
+
+def grounded(s, line=0, tol=0.5):
+    """Nodes of the chain within ``tol`` of the (flat) seabed."""
+    z = s.lines[line].node_positions()[:, 2]
+    return z < -DEPTH + tol
+
+
+def axial_case(friction: str, duration: float, speed: float = 0.2, ramp: float = 10.0, dt: float = 0.5):
+    """The anchor released, the fairlead pulled away from it along the line at 0.2 m/s: the whole grounded
+    chain slides along its axis, and the fairlead's horizontal pull equals mu_kA times the grounded chain's
+    submerged weight (plus the drag of the suspended line at 0.2 m/s)."""
+    m = single_line(friction, anchor_free=True)
+    s = moorline.System(m)
+    x0 = s.deck_coupled_positions()
+    s.init(x0, solve_ic=False)  # no static equilibrium with a released anchor: start on the catenaries
+    t = np.arange(0.0, duration + 1e-9, dt)
+    h = np.zeros(t.size)
+    w = m.line_types["chain"].w * G - RHO * G * np.pi / 4 * m.line_types["chain"].d ** 2
+    expect = np.zeros(t.size)
+    for k in range(1, t.size):
+        tau = t[k]
+        x = x0.copy()
+        x[0] += speed * (tau - 0.5 * ramp if tau > ramp else tau**2 / (2 * ramp))
+        v = np.zeros(3)
+        v[0] = speed * min(1.0, tau / ramp)
+        s.step(x, v, t[k - 1], dt)
+        h[k] = abs(s.coupled_forces()[0])  # horizontal pull of the line on the fairlead
+        g = grounded(s)
+        lam = 500.0 / 25
+        expect[k] = MU_KA * w * lam * (g.sum() - 0.5 * (g[0] + g[-1]))
+    return t, h, expect
+
+
+def transverse_case(friction: str, duration: float, speed: float = 0.9, ramp: float = 20.0, dt: float = 0.5):
+    """The anchor held, the fairlead moved on a circle around it at 0.9 m/s: the grounded chain is swept
+    sideways. Returns the moment of the fairlead's pull about the anchor (vertical axis) [N m] and the closed
+    form of the transverse friction moment of the grounded chain, mu_kT w sum(r_i lam_i) over the grounded
+    nodes (r_i their distance from the anchor)."""
+    m = single_line(friction, anchor_free=False)
+    s = moorline.System(m)
+    x0 = s.deck_coupled_positions()
+    s.init(x0)
+    anchor = np.array([-1130.0, 0.0])
+    r0 = x0[:2] - anchor
+    R = float(np.hypot(*r0))
+    th0 = np.arctan2(r0[1], r0[0])
+    t = np.arange(0.0, duration + 1e-9, dt)
+    mom = np.zeros(t.size)
+    expect = np.zeros(t.size)
+    w = m.line_types["chain"].w * G - RHO * G * np.pi / 4 * m.line_types["chain"].d ** 2
+    lam = 500.0 / 25
+    for k in range(1, t.size):
+        tau = t[k]
+        arc = speed * (tau - 0.5 * ramp if tau > ramp else tau**2 / (2 * ramp))
+        th = th0 + arc / R
+        om = speed * min(1.0, tau / ramp) / R
+        x = x0.copy()
+        x[:2] = anchor + R * np.array([np.cos(th), np.sin(th)])
+        v = np.array([-R * om * np.sin(th), R * om * np.cos(th), 0.0])
+        s.step(x, v, t[k - 1], dt)
+        f = s.coupled_forces()  # load of the line on the fairlead
+        rr = x[:2] - anchor
+        mom[k] = -(rr[0] * f[1] - rr[1] * f[0])  # the pull's moment against the sweep
+        nodes = s.lines[0].node_positions()
+        g = grounded(s)
+        r = np.hypot(nodes[:, 0] - anchor[0], nodes[:, 1] - anchor[1])
+        wt = np.full(g.size, lam)
+        wt[0] = wt[-1] = 0.5 * lam
+        expect[k] = MU_KT * w * np.sum((wt * r)[g]) if friction != "without" else 0.0
+    return t, mom, expect
+
+
+# ------------------------------------------------------------------ main
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="short runs for CI (results_quick.json, no figures)")
+    args = ap.parse_args(argv)
+    logging.getLogger("moorline").setLevel(logging.ERROR)
+    quick = args.quick
+    t_start = time.time()
+    timing = {}
+    ds = coefficients()
+    mass, cg, inertia, parts = mass_properties()
+    res = {"study": "volturnus_seabed", "quick": quick, "units": "SI (m, s, N, N m)",
+           "mass_properties": {"mass_kg": mass, "cg_m": cg.tolist(), "inertia_kgm2": inertia.tolist(), "parts": parts},
+           "thrust_n": THRUST, "hub_height_m": HUB_HEIGHT,
+           "wave": {"H_m": WAVE_H, "T_s": WAVE_T, "heading_deg": WAVE_HEADING},
+           "friction": {"mu_kT": MU_KT, "mu_kA": MU_KA, "mc": MC, "cv": CV}}
+    dur = {"wind": 200.0 if quick else 600.0, "waves": 120.0 if quick else 300.0}
+    window = {"wind": 60.0 if quick else 200.0, "waves": 4 * WAVE_T if quick else 10 * WAVE_T}
+    bathys = ("flat", "upslope") if quick else BATHYMETRIES
+    means, ranges, hist, profiles = {}, {}, {}, {}
+    for b in bathys:
+        means[b], ranges[b] = {}, {}
+        for load in ("wind", "waves"):
+            means[b][load], ranges[b][load] = {}, {}
+            for fr, model in (("with", "directional"), ("without", "without")):
+                t0 = time.time()
+                t, ten, pose, prof = run_case(ds, b, model, load, dur[load])
+                sel = t >= t[-1] - window[load]
+                means[b][load][fr] = float(ten[sel].mean())
+                ranges[b][load][fr] = [float(ten[sel].min()), float(ten[sel].max())]
+                hist[(b, load, fr)] = (t, ten, pose)
+                profiles[(b, load, fr)] = prof
+                timing[f"{b}_{load}_{fr}_s"] = time.time() - t0
+                print(f"{b:10s} {load:6s} friction {fr:8s} mean fairlead tension {means[b][load][fr] / 1e3:9.1f} kN "
+                      f"surge {pose[sel, 0].mean():7.2f} m ({time.time() - t0:.0f} s)", flush=True)
+    res["fairlead_tension_mean_n"] = means
+    res["fairlead_tension_range_n"] = ranges
+    # stick-slip under wind: the grounded chain's tension profile
+    stick = {}
+    for b in bathys:
+        t0 = time.time()
+        t, ten, pose, prof = run_case(ds, b, "stickslip", "wind", dur["wind"])
+        sel = t >= t[-1] - window["wind"]
+        stick[b] = float(ten[sel].mean())
+        profiles[(b, "wind", "stickslip")] = prof
+        timing[f"{b}_wind_stickslip_s"] = time.time() - t0
+        print(f"{b:10s} wind   stick-slip mean fairlead tension {stick[b] / 1e3:9.1f} kN ({time.time() - t0:.0f} s)",
+              flush=True)
+    res["fairlead_tension_mean_n_stickslip_wind"] = stick
+    res["grounded_chain_tension_n"] = {}
+    for (b, load, fr), prof in profiles.items():
+        if load != "wind":
+            continue
+        on = np.array(prof["node_z"]) < np.array(prof["seabed_z"]) + 0.5
+        seg_on = on[:-1] & on[1:]
+        T = np.array(prof["segment_tension"])[seg_on]
+        res["grounded_chain_tension_n"].setdefault(b, {})[fr] = {
+            "segments": int(seg_on.sum()), "max": float(T.max()) if T.size else None,
+            "min": float(T.min()) if T.size else None, "anchor_tension": float(prof["segment_tension"][0])}
+    # single-line friction cases
+    cases = {}
+    d_ax = 150.0 if quick else 400.0
+    d_tr = 120.0 if quick else 400.0
+    for fr in ("directional", "stickslip"):
+        t0 = time.time()
+        t, h, e = axial_case(fr, d_ax)
+        sel = t >= t[-1] - 0.25 * d_ax
+        cases[f"axial_{fr}"] = {"fairlead_pull_n": float(h[sel].mean()), "closed_form_n": float(e[sel].mean()),
+                                "ratio": float(h[sel].mean() / e[sel].mean())}
+        hist[("axial", fr)] = (t, h, e)
+        print(f"axial {fr}: pull {h[sel].mean() / 1e3:.1f} kN, mu_kA w L_grounded {e[sel].mean() / 1e3:.1f} kN "
+              f"({time.time() - t0:.0f} s)", flush=True)
+    for fr in ("without", "directional", "stickslip"):
+        t0 = time.time()
+        t, mom, e = transverse_case(fr, d_tr)
+        sel = t >= t[-1] - 0.25 * d_tr
+        cases[f"transverse_{fr}"] = {"moment_nm": float(mom[sel].mean()), "closed_form_nm": float(e[sel].mean())}
+        hist[("transverse", fr)] = (t, mom, e)
+        print(f"transverse {fr}: moment {mom[sel].mean() / 1e6:.2f} MN m, friction closed form "
+              f"{e[sel].mean() / 1e6:.2f} MN m ({time.time() - t0:.0f} s)", flush=True)
+    for fr in ("directional", "stickslip"):
+        c = cases[f"transverse_{fr}"]
+        c["friction_moment_nm"] = c["moment_nm"] - cases["transverse_without"]["moment_nm"]
+        c["ratio"] = c["friction_moment_nm"] / c["closed_form_nm"]
+    res["friction_cases"] = cases
+    timing["total_s"] = time.time() - t_start
+    res["run_time_s"] = timing
+    out = HERE / ("results_quick.json" if quick else "results.json")
+    out.write_text(json.dumps(res, indent=1, default=float) + "\n")
+    print(f"wrote {out} in {timing['total_s']:.0f} s")
+    (HERE / ("tables_quick.md" if quick else "tables.md")).write_text(tables(res))
+    if not quick:
+        figures(res, hist, profiles)
+    return res
+
+
+def tables(res) -> str:
+    f = res["fairlead_tension_mean_n"]
+    rng = res["fairlead_tension_range_n"]
+    out = ["| bathymetry | wind, friction | wind, no friction | wind, stick-slip | waves, friction (range) | "
+           "waves, no friction (range) |", "|---|---|---|---|---|---|"]
+    for b in f:
+        ss = res["fairlead_tension_mean_n_stickslip_wind"].get(b)
+        out.append(f"| {b} | {f[b]['wind']['with'] / 1e3:.1f} | {f[b]['wind']['without'] / 1e3:.1f} | "
+                   + (f"{ss / 1e3:.1f}" if ss is not None else "-") + " | "
+                   + " | ".join(f"{f[b]['waves'][fr] / 1e3:.1f} ({rng[b]['waves'][fr][0] / 1e3:.0f}-"
+                                f"{rng[b]['waves'][fr][1] / 1e3:.0f})" for fr in ("with", "without")) + " |")
+    out += ["", "| grounded chain of line 1 under wind | segments on the seabed | tension min-max [kN] | "
+            "anchor tension [kN] |", "|---|---|---|---|"]
+    for b, d in res["grounded_chain_tension_n"].items():
+        for fr, v in d.items():
+            mm = f"{v['min'] / 1e3:.1f}-{v['max'] / 1e3:.1f}" if v["min"] is not None else "-"
+            out.append(f"| {b}, {fr} | {v['segments']} | {mm} | {v['anchor_tension'] / 1e3:.1f} |")
+    c = res["friction_cases"]
+    out += ["", "| single-line case | ours | closed form | ratio |", "|---|---|---|---|"]
+    for fr in ("directional", "stickslip"):
+        a = c[f"axial_{fr}"]
+        out.append(f"| axial, {fr}: fairlead pull [kN] vs mu_kA w L_grounded | {a['fairlead_pull_n'] / 1e3:.1f} | "
+                   f"{a['closed_form_n'] / 1e3:.1f} | {a['ratio']:.3f} |")
+    for fr in ("directional", "stickslip"):
+        a = c[f"transverse_{fr}"]
+        out.append(f"| transverse, {fr}: friction moment about the anchor [MN m] vs mu_kT w sum(r lam) | "
+                   f"{a['friction_moment_nm'] / 1e6:.2f} | {a['closed_form_nm'] / 1e6:.2f} | {a['ratio']:.3f} |")
+    return "\n".join(out) + "\n"
+
+
+def figures(res, hist, profiles):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cols = dict(zip(BATHYMETRIES, ("k", "C0", "C3", "C2"), strict=True))
+    fig, axs = plt.subplots(2, 1, figsize=(8, 6))
+    for ax, load in zip(axs, ("wind", "waves"), strict=True):
+        for b in BATHYMETRIES:
+            for fr, ls in (("with", "-"), ("without", "--")):
+                if (b, load, fr) not in hist:
+                    continue
+                t, ten, _ = hist[(b, load, fr)]
+                ax.plot(t, ten / 1e3, color=cols[b], ls=ls, lw=1.0,
+                        label=f"{b}, {'friction' if fr == 'with' else 'no friction'}")
+        ax.set_ylabel("line 1 fairlead tension [kN]")
+        ax.set_title(f"{load}: " + (f"thrust {THRUST / 1e6:.2f} MN at {HUB_HEIGHT:.0f} m along +x (towards line 2/3)"
+                                     if load == "wind" else f"regular wave H {WAVE_H} m, T {WAVE_T} s, 90 deg"))
+        ax.grid(alpha=0.3)
+    axs[0].legend(fontsize=7, ncol=2)
+    axs[1].set_xlabel("time [s]")
+    fig.tight_layout()
+    fig.savefig(HERE / "fairlead_tension.png", dpi=90)
+    plt.close(fig)
+
+    fig, axs = plt.subplots(1, 4, figsize=(11, 3.4), sharey=True)
+    for ax, b in zip(axs, BATHYMETRIES, strict=True):
+        for fr, col, lab in (("without", "0.6", "no friction"), ("with", "C0", "MoorDyn-F directional saturated"),
+                             ("stickslip", "C3", "moorline stick-slip")):
+            prof = profiles.get((b, "wind", fr))
+            if prof is None:
+                continue
+            xy = np.array(prof["node_xy"])
+            s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+            sm = 0.5 * (s[1:] + s[:-1])
+            on = np.array(prof["node_z"]) < np.array(prof["seabed_z"]) + 0.5
+            seg_on = on[:-1] & on[1:]
+            T = np.array(prof["segment_tension"]) / 1e3
+            ax.plot(sm, T, color=col, lw=0.8, alpha=0.5)
+            ax.plot(sm[seg_on], T[seg_on], "o-", color=col, ms=3, lw=1.2, label=lab)
+        ax.set_title(b)
+        ax.set_xlabel("distance from anchor (plan) [m]")
+        ax.grid(alpha=0.3)
+    axs[0].set_ylabel("line 1 chain segment tension [kN]")
+    axs[0].legend(fontsize=7)
+    fig.suptitle("line 1 chain under the wind thrust (markers: segments lying on the seabed)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(HERE / "grounded_tension.png", dpi=90)
+    plt.close(fig)
+
+    fig, axs = plt.subplots(1, 2, figsize=(10, 3.4))
+    for fr, col in (("directional", "C0"), ("stickslip", "C3")):
+        t, h, e = hist[("axial", fr)]
+        axs[0].plot(t, h / 1e3, color=col, label=f"{fr}: fairlead pull")
+        axs[0].plot(t, e / 1e3, color=col, ls=":", label=f"{fr}: mu_kA w L_grounded")
+    axs[0].set_title("axial: anchor released, fairlead pulled at 0.2 m/s")
+    axs[0].set_xlabel("time [s]")
+    axs[0].set_ylabel("[kN]")
+    for fr, col in (("without", "0.5"), ("directional", "C0"), ("stickslip", "C3")):
+        t, mom, e = hist[("transverse", fr)]
+        axs[1].plot(t, mom / 1e6, color=col, label=f"{fr}: moment of the pull about the anchor")
+        if fr != "without":
+            t0, m0, _ = hist[("transverse", "without")]
+            axs[1].plot(t, (m0 + e) / 1e6, color=col, ls=":", label=f"{fr}: no-friction + mu_kT w sum(r lam)")
+    axs[1].set_title("transverse: fairlead swept around the anchor at 0.9 m/s")
+    axs[1].set_xlabel("time [s]")
+    axs[1].set_ylabel("[MN m]")
+    for a in axs:
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(HERE / "friction_cases.png", dpi=90)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    sys.exit(0 if main() else 1)
