@@ -154,7 +154,12 @@ def set_friction(m, friction: str, mc: float = MC) -> None:
         raise ValueError(friction)
 
 
-def build(ds, bathy: str, friction: str, waves=None):
+#: linear damping [N s/m, N m s/rad] that settles the platform quickly (about critical in every DOF) when the
+#: frictionless equilibrium is found by time stepping (see :func:`start_at_equilibrium`)
+SETTLE_DAMPING = (2.0e6, 2.0e6, 2.5e7, 1.3e10, 1.3e10, 2.0e9)
+
+
+def build(ds, bathy: str, friction: str, waves=None, linear_damping=None):
     m = read_deck(HERE / "volturnus_850m.dat")
     mass, cg, inertia, _ = mass_properties()
     b = m.bodies[0]
@@ -166,7 +171,7 @@ def build(ds, bathy: str, friction: str, waves=None):
                 p.r[2] = float(m.env.bathymetry.height(p.r[0], p.r[1])) + (50.0 if p.kind.name == "FREE" else 0.0)
     set_friction(m, friction)
     m.add_hydro([0], ds, ss_max_order=12)
-    m.add_floating(0, quadratic_damping=add_bquad())
+    m.add_floating(0, quadratic_damping=add_bquad(), linear_damping=linear_damping)
     m.env.waves = waves
     m.env.waves_on_lines = True
     return m
@@ -181,7 +186,7 @@ def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: f
     """Line-1 fairlead tension history, and the line-1 segment tensions at the end."""
     waves = Waves.regular(WAVE_H, WAVE_T, heading=WAVE_HEADING, ramp_time=3 * WAVE_T) if loading == "waves" else None
     s = moorline.System(build(ds, bathy, friction, waves=waves))
-    s.init()
+    start_at_equilibrium(s, ds, bathy)
     t = np.arange(0.0, duration + 1e-9, dt)
     ten = np.zeros(t.size)
     pose = np.zeros((t.size, 6))
@@ -193,11 +198,49 @@ def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: f
         s.step(None, None, t[k - 1], dt)
         ten[k] = s.line_end_tensions()[3, 1]  # line 4: line 1's polyester, its end B the fairlead
         pose[k] = s.bodies[0].pose()
-    chain = s.lines[0]
-    profile = {"node_z": chain.node_positions()[:, 2].tolist(), "node_xy": chain.node_positions()[:, :2].tolist(),
-               "segment_tension": chain.segment_tensions().tolist(),
-               "seabed_z": seabed_height(s, chain.node_positions()).tolist()}
+    profile = {}
+    for k in (1, 2):  # the chains of lines 1 and 2 (deck lines 1 and 2)
+        chain = s.lines[k - 1]
+        r = chain.node_positions()
+        profile[f"line{k}"] = {"node_z": r[:, 2].tolist(), "node_xy": r[:, :2].tolist(),
+                               "segment_tension": chain.segment_tensions().tolist(),
+                               "seabed_z": seabed_height(s, r).tolist()}
     return t, ten, pose, profile
+
+
+_EQUILIBRIA = {}
+
+
+def start_at_equilibrium(s, ds, bathy: str) -> None:
+    """Initialise ``s`` at the frictionless static equilibrium on its bathymetry. The saturated friction models
+    act during the implicit relaxation that Newton statics falls back on (they depend on the velocity), hold
+    the lying chain and stop the platform short of its equilibrium on the slopes; every run therefore starts
+    from the frictionless equilibrium (found once per bathymetry, with the stick-slip springs relaxed there),
+    as the saturated models give no friction in statics."""
+    if bathy not in _EQUILIBRIA:
+        s0 = moorline.System(build(ds, bathy, "without"))
+        try:
+            s0.init()
+            how = s0.ic_report["method"]
+        except moorline.SimulationError:
+            # on the slopes Newton statics stalls at about 5e-5 m/s^2 (a node at the sloped touchdown toggles its
+            # contact) against its 1e-5 tolerance: settle the frictionless system in time instead, with heavy
+            # linear damping on the platform, until it moves less than 0.1 mm/s
+            s0 = moorline.System(build(ds, bathy, "without", linear_damping=SETTLE_DAMPING))
+            s0.init(solve_ic=False)
+            t = 0.0
+            while t < 3000.0:
+                s0.step(None, None, t, 10.0)
+                t += 10.0
+                if t > 100.0 and np.max(np.abs(s0.bodies[0].velocity())) < 1e-4:
+                    break
+            how = f"settled in time with heavy damping ({t:.0f} s; platform speed < 0.1 mm/s)"
+        _EQUILIBRIA[bathy] = ([ln.node_positions() for ln in s0.lines], np.array([p.position() for p in s0.points]),
+                              s0.bodies[0].pose(), {"method": how})
+    lines, points, pose, _ = _EQUILIBRIA[bathy]
+    s.init(solve_ic=False)
+    s.set_body_state(0, position=pose[:3], angles=pose[3:])
+    s.set_state(line_positions=lines, point_positions=points)
 
 
 def seabed_height(s, nodes):
@@ -331,29 +374,34 @@ def main(argv=None):
                 print(f"{b:10s} {load:6s} friction {fr:8s} mean fairlead tension {means[b][load][fr] / 1e3:9.1f} kN "
                       f"surge {pose[sel, 0].mean():7.2f} m ({time.time() - t0:.0f} s)", flush=True)
     res["fairlead_tension_mean_n"] = means
+    res["equilibrium"] = {b: {"pose": e[2].tolist(), "line1_fairlead_tension_n": None, "ic": str(e[3].get("method"))}
+                          for b, e in _EQUILIBRIA.items()}
     res["fairlead_tension_range_n"] = ranges
-    # stick-slip under wind: the grounded chain's tension profile
+    # moorline's stick-slip friction (the paper's OrcaFlex counterpart), same coefficients
     stick = {}
-    for b in bathys:
-        t0 = time.time()
-        t, ten, pose, prof = run_case(ds, b, "stickslip", "wind", dur["wind"])
-        sel = t >= t[-1] - window["wind"]
-        stick[b] = float(ten[sel].mean())
-        profiles[(b, "wind", "stickslip")] = prof
-        timing[f"{b}_wind_stickslip_s"] = time.time() - t0
-        print(f"{b:10s} wind   stick-slip mean fairlead tension {stick[b] / 1e3:9.1f} kN ({time.time() - t0:.0f} s)",
-              flush=True)
-    res["fairlead_tension_mean_n_stickslip_wind"] = stick
+    for b in (("flat",) if quick else bathys):
+        stick[b] = {}
+        for load in ("wind", "waves"):
+            t0 = time.time()
+            t, ten, pose, prof = run_case(ds, b, "stickslip", load, dur[load])
+            sel = t >= t[-1] - window[load]
+            stick[b][load] = float(ten[sel].mean())
+            profiles[(b, load, "stickslip")] = prof
+            hist[(b, load, "stickslip")] = (t, ten, pose)
+            timing[f"{b}_{load}_stickslip_s"] = time.time() - t0
+            print(f"{b:10s} {load:6s} stick-slip mean fairlead tension {stick[b][load] / 1e3:9.1f} kN "
+                  f"({time.time() - t0:.0f} s)", flush=True)
+    res["fairlead_tension_mean_n_stickslip"] = stick
+    # the grounded chain's tensions at the end of each run: line 1 (upwind under the thrust) and line 2
     res["grounded_chain_tension_n"] = {}
     for (b, load, fr), prof in profiles.items():
-        if load != "wind":
-            continue
-        on = np.array(prof["node_z"]) < np.array(prof["seabed_z"]) + 0.5
-        seg_on = on[:-1] & on[1:]
-        T = np.array(prof["segment_tension"])[seg_on]
-        res["grounded_chain_tension_n"].setdefault(b, {})[fr] = {
-            "segments": int(seg_on.sum()), "max": float(T.max()) if T.size else None,
-            "min": float(T.min()) if T.size else None, "anchor_tension": float(prof["segment_tension"][0])}
+        for ln, p in prof.items():
+            on = np.array(p["node_z"]) < np.array(p["seabed_z"]) + 0.5
+            seg_on = on[:-1] & on[1:]
+            T = np.array(p["segment_tension"])[seg_on]
+            res["grounded_chain_tension_n"].setdefault(b, {}).setdefault(load, {}).setdefault(ln, {})[fr] = {
+                "segments": int(seg_on.sum()), "max": float(T.max()) if T.size else None,
+                "min": float(T.min()) if T.size else None, "anchor_tension": float(p["segment_tension"][0])}
     # single-line friction cases
     cases = {}
     d_ax = 150.0 if quick else 400.0
@@ -397,17 +445,20 @@ def tables(res) -> str:
     out = ["| bathymetry | wind, friction | wind, no friction | wind, stick-slip | waves, friction (range) | "
            "waves, no friction (range) |", "|---|---|---|---|---|---|"]
     for b in f:
-        ss = res["fairlead_tension_mean_n_stickslip_wind"].get(b)
+        ss = res["fairlead_tension_mean_n_stickslip"].get(b, {}).get("wind")
         out.append(f"| {b} | {f[b]['wind']['with'] / 1e3:.1f} | {f[b]['wind']['without'] / 1e3:.1f} | "
                    + (f"{ss / 1e3:.1f}" if ss is not None else "-") + " | "
                    + " | ".join(f"{f[b]['waves'][fr] / 1e3:.1f} ({rng[b]['waves'][fr][0] / 1e3:.0f}-"
                                 f"{rng[b]['waves'][fr][1] / 1e3:.0f})" for fr in ("with", "without")) + " |")
-    out += ["", "| grounded chain of line 1 under wind | segments on the seabed | tension min-max [kN] | "
+    out += ["", "| grounded chain at the end of the run | segments on the seabed | tension min-max [kN] | "
             "anchor tension [kN] |", "|---|---|---|---|"]
     for b, d in res["grounded_chain_tension_n"].items():
-        for fr, v in d.items():
-            mm = f"{v['min'] / 1e3:.1f}-{v['max'] / 1e3:.1f}" if v["min"] is not None else "-"
-            out.append(f"| {b}, {fr} | {v['segments']} | {mm} | {v['anchor_tension'] / 1e3:.1f} |")
+        for load, dl in d.items():
+            for ln, dd in dl.items():
+                for fr, v in dd.items():
+                    mm = f"{v['min'] / 1e3:.1f}-{v['max'] / 1e3:.1f}" if v["min"] is not None else "-"
+                    out.append(f"| {b}, {load}, {ln}, {fr} | {v['segments']} | {mm} | "
+                               f"{v['anchor_tension'] / 1e3:.1f} |")
     c = res["friction_cases"]
     out += ["", "| single-line case | ours | closed form | ratio |", "|---|---|---|---|"]
     for fr in ("directional", "stickslip"):
@@ -431,12 +482,12 @@ def figures(res, hist, profiles):
     fig, axs = plt.subplots(2, 1, figsize=(8, 6))
     for ax, load in zip(axs, ("wind", "waves"), strict=True):
         for b in BATHYMETRIES:
-            for fr, ls in (("with", "-"), ("without", "--")):
+            for fr, ls in (("with", "-"), ("without", "--"), ("stickslip", ":")):
                 if (b, load, fr) not in hist:
                     continue
                 t, ten, _ = hist[(b, load, fr)]
-                ax.plot(t, ten / 1e3, color=cols[b], ls=ls, lw=1.0,
-                        label=f"{b}, {'friction' if fr == 'with' else 'no friction'}")
+                lab = {"with": "directional friction", "without": "no friction", "stickslip": "stick-slip"}[fr]
+                ax.plot(t, ten / 1e3, color=cols[b], ls=ls, lw=1.0, label=f"{b}, {lab}")
         ax.set_ylabel("line 1 fairlead tension [kN]")
         ax.set_title(f"{load}: " + (f"thrust {THRUST / 1e6:.2f} MN at {HUB_HEIGHT:.0f} m along +x (towards line 2/3)"
                                      if load == "wind" else f"regular wave H {WAVE_H} m, T {WAVE_T} s, 90 deg"))
@@ -447,27 +498,28 @@ def figures(res, hist, profiles):
     fig.savefig(HERE / "fairlead_tension.png", dpi=90)
     plt.close(fig)
 
-    fig, axs = plt.subplots(1, 4, figsize=(11, 3.4), sharey=True)
-    for ax, b in zip(axs, BATHYMETRIES, strict=True):
-        for fr, col, lab in (("without", "0.6", "no friction"), ("with", "C0", "MoorDyn-F directional saturated"),
-                             ("stickslip", "C3", "moorline stick-slip")):
-            prof = profiles.get((b, "wind", fr))
-            if prof is None:
-                continue
-            xy = np.array(prof["node_xy"])
-            s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
-            sm = 0.5 * (s[1:] + s[:-1])
-            on = np.array(prof["node_z"]) < np.array(prof["seabed_z"]) + 0.5
-            seg_on = on[:-1] & on[1:]
-            T = np.array(prof["segment_tension"]) / 1e3
-            ax.plot(sm, T, color=col, lw=0.8, alpha=0.5)
-            ax.plot(sm[seg_on], T[seg_on], "o-", color=col, ms=3, lw=1.2, label=lab)
-        ax.set_title(b)
-        ax.set_xlabel("distance from anchor (plan) [m]")
-        ax.grid(alpha=0.3)
-    axs[0].set_ylabel("line 1 chain segment tension [kN]")
-    axs[0].legend(fontsize=7)
-    fig.suptitle("line 1 chain under the wind thrust (markers: segments lying on the seabed)", fontsize=9)
+    fig, axs = plt.subplots(2, 4, figsize=(12, 6.4), sharey="row")
+    for row, (load, ln) in enumerate((("waves", "line1"), ("wind", "line2"))):
+        for ax, b in zip(axs[row], BATHYMETRIES, strict=True):
+            for fr, col, lab in (("without", "0.6", "no friction"), ("with", "C0", "MoorDyn-F directional saturated"),
+                                 ("stickslip", "C3", "moorline stick-slip")):
+                prof = profiles.get((b, load, fr), {}).get(ln)
+                if prof is None:
+                    continue
+                xy = np.array(prof["node_xy"])
+                s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+                sm = 0.5 * (s[1:] + s[:-1])
+                on = np.array(prof["node_z"]) < np.array(prof["seabed_z"]) + 0.5
+                seg_on = on[:-1] & on[1:]
+                T = np.array(prof["segment_tension"]) / 1e3
+                ax.plot(sm, T, color=col, lw=0.8, alpha=0.5)
+                ax.plot(sm[seg_on], T[seg_on], "o-", color=col, ms=3, lw=1.2, label=lab)
+            ax.set_title(f"{b}: {ln.replace('line', 'line ')}, {load}", fontsize=9)
+            ax.set_xlabel("distance from anchor (plan) [m]")
+            ax.grid(alpha=0.3)
+        axs[row][0].set_ylabel("chain segment tension [kN]")
+    axs[0][0].legend(fontsize=7)
+    fig.suptitle("chain tension at the end of the run (markers: segments lying on the seabed)", fontsize=9)
     fig.tight_layout()
     fig.savefig(HERE / "grounded_tension.png", dpi=90)
     plt.close(fig)
