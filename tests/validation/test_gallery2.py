@@ -80,13 +80,16 @@ def test_volturnus_seabed_quick():
     # the thrust pushes along +x, away from line 1's anchor: its fairlead tension rises over the wave case's
     # (no mean load) by at least 30 % on the flat seabed
     assert f["flat"]["wind"]["without"] > 1.3 * f["flat"]["waves"]["without"]
-    # the upslope (line 1's anchor 141 m shallower) slackens line 1: lower tension than flat, at least 10 %
-    assert f["upslope"]["waves"]["without"] < 0.9 * f["flat"]["waves"]["without"]
-    # the single-line friction cases: the axial pull equals mu_kA w L_grounded (both models, 10 %: the suspended
-    # line's drag at 0.2 m/s and the touchdown node's partial contact); the transverse friction moment, the
-    # difference from the frictionless sweep, is mu_kT w sum(r lam) within 25 % (the chain near the anchor
-    # moves slower than the creep velocity v_c = mc N / cv and carries less than mu N)
+    # upslope (line 1's anchor 141 m shallower, lines 2 and 3 106 m deeper): the deeper lines pull the platform
+    # about 116 m towards them, stretching line 1: its tension rises over the flat seabed's (measured +60 %)
+    assert f["upslope"]["waves"]["without"] > 1.2 * f["flat"]["waves"]["without"]
+    # the single-line friction cases, steady sliding: the axial pull equals mu_kA sum(N) over the chain's nodes
+    # within 5 % (measured +1.3 %: the suspended line's drag at 0.2 m/s adds to the friction); the transverse
+    # friction moment, the difference from the frictionless sweep, is its Coulomb bound mu_kT sum(r N) within
+    # 10 % (measured -1 % and +3 %: the frictionless sweep's line shape, hence its drag, differs a little)
     c = r["friction_cases"]
     for fr in ("directional", "stickslip"):
-        assert c[f"axial_{fr}"]["ratio"] == pytest.approx(1.0, abs=0.10)
-        assert c[f"transverse_{fr}"]["ratio"] == pytest.approx(1.0, abs=0.25)
+        assert c[f"axial_{fr}"]["ratio"] == pytest.approx(1.0, abs=0.05)
+        assert c[f"transverse_{fr}"]["ratio"] == pytest.approx(1.0, abs=0.10)
+    # with friction the transverse sweep needs more moment than without (friction resists it)
+    assert c["transverse_directional"]["friction_moment_nm"] > 0.5 * c["transverse_directional"]["closed_form_nm"]

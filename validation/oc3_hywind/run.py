@@ -509,7 +509,8 @@ def figures(res, histories, tuned_hist, ten_hist, wave_hist):
     axs[0].set_ylabel("yaw [deg]")
     axs[1].set_ylabel("line 1 anchor tension [kN]")
     axs[1].set_xlabel("time [s]")
-    axs[0].set_title("15 deg yaw decay, equal total yaw stiffness (bridles +0, single lines +105e6 N m/rad)")
+    axs[0].set_title("15 deg yaw decay, equal total yaw stiffness\n(bridles +0, single lines +105e6 N m/rad)",
+                     fontsize=10)
     axs[0].legend(fontsize=7, ncol=2)
     for a in axs:
         a.grid(alpha=0.3)

@@ -182,7 +182,7 @@ def thrust_load(scale: float) -> np.ndarray:
     return scale * np.array([THRUST, 0.0, 0.0, 0.0, HUB_HEIGHT * THRUST, 0.0])
 
 
-def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: float = 0.5, ramp: float = 60.0):
+def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: float = 0.5, ramp: float = 600.0):
     """Line-1 fairlead tension history, and the line-1 segment tensions at the end."""
     waves = Waves.regular(WAVE_H, WAVE_T, heading=WAVE_HEADING, ramp_time=3 * WAVE_T) if loading == "waves" else None
     s = moorline.System(build(ds, bathy, friction, waves=waves))
@@ -194,7 +194,9 @@ def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: f
     pose[0] = s.bodies[0].pose()
     for k in range(1, t.size):
         if loading == "wind":
-            s.layout.fl.Fc[0][:] = thrust_load(min(1.0, t[k - 1] / ramp))
+            # a smooth ramp over about two surge periods (the soft semi-taut system's is about 330 s), so that
+            # the platform reaches its mean offset without a large surge transient
+            s.layout.fl.Fc[0][:] = thrust_load(0.5 * (1.0 - np.cos(np.pi * min(1.0, t[k - 1] / ramp))))
         s.step(None, None, t[k - 1], dt)
         ten[k] = s.line_end_tensions()[3, 1]  # line 4: line 1's polyester, its end B the fairlead
         pose[k] = s.bodies[0].pose()
@@ -267,23 +269,17 @@ def single_line(friction: str, *, anchor_free: bool):
     return m
 
 
-def grounded(s, line=0, tol=0.5):
-    """Nodes of the chain within ``tol`` of the (flat) seabed."""
-    z = s.lines[line].node_positions()[:, 2]
-    return z < -DEPTH + tol
-
-
 def axial_case(friction: str, duration: float, speed: float = 0.2, ramp: float = 10.0, dt: float = 0.5):
-    """The anchor released, the fairlead pulled away from it along the line at 0.2 m/s: the whole grounded
-    chain slides along its axis, and the fairlead's horizontal pull equals mu_kA times the grounded chain's
-    submerged weight (plus the drag of the suspended line at 0.2 m/s)."""
+    """The anchor released, the fairlead pulled away from it along the line at 0.2 m/s: once the slack is
+    taken up (about 600 s) the whole grounded chain slides along its axis, and the fairlead's horizontal pull
+    equals mu_kA times the seabed's normal force on the chain (plus the drag of the suspended line at
+    0.2 m/s)."""
     m = single_line(friction, anchor_free=True)
     s = moorline.System(m)
     x0 = s.deck_coupled_positions()
     s.init(x0, solve_ic=False)  # no static equilibrium with a released anchor: start on the catenaries
     t = np.arange(0.0, duration + 1e-9, dt)
     h = np.zeros(t.size)
-    w = m.line_types["chain"].w * G - RHO * G * np.pi / 4 * m.line_types["chain"].d ** 2
     expect = np.zeros(t.size)
     for k in range(1, t.size):
         tau = t[k]
@@ -293,17 +289,24 @@ def axial_case(friction: str, duration: float, speed: float = 0.2, ramp: float =
         v[0] = speed * min(1.0, tau / ramp)
         s.step(x, v, t[k - 1], dt)
         h[k] = abs(s.coupled_forces()[0])  # horizontal pull of the line on the fairlead
-        g = grounded(s)
-        lam = 500.0 / 25
-        expect[k] = MU_KA * w * lam * (g.sum() - 0.5 * (g[0] + g[-1]))
+        expect[k] = MU_KA * normal_force(s)
     return t, h, expect
+
+
+def normal_force(s, line=0, weights=None):
+    """Seabed contact force of the chain's nodes, normal to the flat seabed (vertical; the friction is
+    horizontal) [N], summed with ``weights`` per node (default 1)."""
+    n = np.maximum(s.lines[line].node_seabed_forces()[:, 2], 0.0)
+    return float(np.sum(n if weights is None else n * weights))
 
 
 def transverse_case(friction: str, duration: float, speed: float = 0.9, ramp: float = 20.0, dt: float = 0.5):
     """The anchor held, the fairlead moved on a circle around it at 0.9 m/s: the grounded chain is swept
-    sideways. Returns the moment of the fairlead's pull about the anchor (vertical axis) [N m] and the closed
-    form of the transverse friction moment of the grounded chain, mu_kT w sum(r_i lam_i) over the grounded
-    nodes (r_i their distance from the anchor)."""
+    sideways. Returns the moment of the fairlead's pull about the anchor (vertical axis) [N m] and the
+    Coulomb bound of the transverse friction moment of the grounded chain, mu_kT sum(r_i N_i) over its nodes
+    (N_i the seabed's normal force, r_i the distance from the anchor): reached if every grounded node slid
+    transversely at more than the creep velocity; the chain next to the anchor moves slower, and part of
+    the grounded chain slides partly along its axis."""
     m = single_line(friction, anchor_free=False)
     s = moorline.System(m)
     x0 = s.deck_coupled_positions()
@@ -315,8 +318,6 @@ def transverse_case(friction: str, duration: float, speed: float = 0.9, ramp: fl
     t = np.arange(0.0, duration + 1e-9, dt)
     mom = np.zeros(t.size)
     expect = np.zeros(t.size)
-    w = m.line_types["chain"].w * G - RHO * G * np.pi / 4 * m.line_types["chain"].d ** 2
-    lam = 500.0 / 25
     for k in range(1, t.size):
         tau = t[k]
         arc = speed * (tau - 0.5 * ramp if tau > ramp else tau**2 / (2 * ramp))
@@ -330,12 +331,61 @@ def transverse_case(friction: str, duration: float, speed: float = 0.9, ramp: fl
         rr = x[:2] - anchor
         mom[k] = -(rr[0] * f[1] - rr[1] * f[0])  # the pull's moment against the sweep
         nodes = s.lines[0].node_positions()
-        g = grounded(s)
         r = np.hypot(nodes[:, 0] - anchor[0], nodes[:, 1] - anchor[1])
-        wt = np.full(g.size, lam)
-        wt[0] = wt[-1] = 0.5 * lam
-        expect[k] = MU_KT * w * np.sum((wt * r)[g]) if friction != "without" else 0.0
+        expect[k] = MU_KT * normal_force(s, weights=r) if friction != "without" else 0.0
     return t, mom, expect
+
+
+# ------------------------------------------------------------------ statics against MoorPy
+def statics(ds, bathy: str) -> dict:
+    """Line tensions at the frictionless equilibrium pose of the platform: the dynamic model's statics, our
+    quasi-static solver and MoorPy 1.3.0 (its grid set directly, as tests/quasistatic do), the platform held
+    at the same pose and the junctions free."""
+    import contextlib
+    import io
+
+    from moorline.quasistatic import QuasiStaticError, QuasiStaticModel
+
+    lines, points, pose, how = _EQUILIBRIA[bathy]
+    m = build(ds, bathy, "without")
+    for k, pt in enumerate(m.points):  # the junctions start where the dynamic statics put them
+        if pt.kind.name == "FREE":
+            pt.r[:] = points[k]
+    out = {"pose": pose.tolist(), "equilibrium": how["method"]}
+    try:
+        sol = QuasiStaticModel(m, bodies_free=False).solve(pose)
+        out["ours_quasistatic"] = {"fairlead": sol.tensions[3:, 1].tolist(), "anchor": sol.tensions[:3, 0].tolist()}
+    except QuasiStaticError as e:
+        out["ours_quasistatic"] = {"error": str(e)}
+    s = moorline.System(build(ds, bathy, "without"))
+    s.init(solve_ic=False)
+    s.set_body_state(0, position=pose[:3], angles=pose[3:])
+    s.set_state(line_positions=lines, point_positions=points)
+    T = s.line_end_tensions()
+    out["ours_dynamic_statics"] = {"fairlead": T[3:, 1].tolist(), "anchor": T[:3, 0].tolist()}
+    try:
+        import moorpy as mp
+    except ImportError:
+        out["moorpy"] = None
+        return out
+    with contextlib.redirect_stdout(io.StringIO()):
+        ms = mp.System(file=str(HERE / "volturnus_850m.dat"), depth=DEPTH, rho=RHO, g=G)
+        for k, pt in enumerate(m.points):  # anchors on the slope, junctions from our equilibrium
+            if pt.kind.name == "FIXED":
+                ms.pointList[k].r = np.array(pt.r, dtype=float)
+            elif pt.kind.name == "FREE":
+                ms.pointList[k].r = np.array(points[k], dtype=float)
+        bt = m.env.bathymetry
+        if bt is not None:
+            ms.bathGrid_Xs, ms.bathGrid_Ys, ms.bathGrid, ms.seabedMod = bt.x, bt.y, -bt.z, 2
+        body = ms.bodyList[0]
+        body.type = -1
+        body.r6 = np.array(pose, dtype=float)
+        ms.initialize()
+        ms.solveEquilibrium(tol=1e-8, maxIter=5000)
+    out["moorpy"] = {"fairlead": [float(ms.lineList[k].TB) for k in (3, 4, 5)],
+                     "anchor": [float(ms.lineList[k].TA) for k in (0, 1, 2)]}
+    return out
 
 
 # ------------------------------------------------------------------ main
@@ -354,8 +404,9 @@ def main(argv=None):
            "thrust_n": THRUST, "hub_height_m": HUB_HEIGHT,
            "wave": {"H_m": WAVE_H, "T_s": WAVE_T, "heading_deg": WAVE_HEADING},
            "friction": {"mu_kT": MU_KT, "mu_kA": MU_KA, "mc": MC, "cv": CV}}
-    dur = {"wind": 200.0 if quick else 600.0, "waves": 120.0 if quick else 300.0}
-    window = {"wind": 60.0 if quick else 200.0, "waves": 4 * WAVE_T if quick else 10 * WAVE_T}
+    dur = {"wind": 200.0 if quick else 1200.0, "waves": 120.0 if quick else 300.0}
+    window = {"wind": 60.0 if quick else 400.0, "waves": 4 * WAVE_T if quick else 10 * WAVE_T}
+    ramp = 100.0 if quick else 600.0
     bathys = ("flat", "upslope") if quick else BATHYMETRIES
     means, ranges, hist, profiles = {}, {}, {}, {}
     for b in bathys:
@@ -364,7 +415,7 @@ def main(argv=None):
             means[b][load], ranges[b][load] = {}, {}
             for fr, model in (("with", "directional"), ("without", "without")):
                 t0 = time.time()
-                t, ten, pose, prof = run_case(ds, b, model, load, dur[load])
+                t, ten, pose, prof = run_case(ds, b, model, load, dur[load], ramp=ramp)
                 sel = t >= t[-1] - window[load]
                 means[b][load][fr] = float(ten[sel].mean())
                 ranges[b][load][fr] = [float(ten[sel].min()), float(ten[sel].max())]
@@ -374,8 +425,7 @@ def main(argv=None):
                 print(f"{b:10s} {load:6s} friction {fr:8s} mean fairlead tension {means[b][load][fr] / 1e3:9.1f} kN "
                       f"surge {pose[sel, 0].mean():7.2f} m ({time.time() - t0:.0f} s)", flush=True)
     res["fairlead_tension_mean_n"] = means
-    res["equilibrium"] = {b: {"pose": e[2].tolist(), "line1_fairlead_tension_n": None, "ic": str(e[3].get("method"))}
-                          for b, e in _EQUILIBRIA.items()}
+    res["statics"] = {b: statics(ds, b) for b in bathys}
     res["fairlead_tension_range_n"] = ranges
     # moorline's stick-slip friction (the paper's OrcaFlex counterpart), same coefficients
     stick = {}
@@ -383,7 +433,7 @@ def main(argv=None):
         stick[b] = {}
         for load in ("wind", "waves"):
             t0 = time.time()
-            t, ten, pose, prof = run_case(ds, b, "stickslip", load, dur[load])
+            t, ten, pose, prof = run_case(ds, b, "stickslip", load, dur[load], ramp=ramp)
             sel = t >= t[-1] - window[load]
             stick[b][load] = float(ten[sel].mean())
             profiles[(b, load, "stickslip")] = prof
@@ -404,24 +454,24 @@ def main(argv=None):
                 "min": float(T.min()) if T.size else None, "anchor_tension": float(p["segment_tension"][0])}
     # single-line friction cases
     cases = {}
-    d_ax = 150.0 if quick else 400.0
-    d_tr = 120.0 if quick else 400.0
+    d_ax = 1000.0 if quick else 1500.0
+    d_tr = 1200.0 if quick else 1500.0
     for fr in ("directional", "stickslip"):
         t0 = time.time()
         t, h, e = axial_case(fr, d_ax)
-        sel = t >= t[-1] - 0.25 * d_ax
+        sel = t >= t[-1] - 200.0
         cases[f"axial_{fr}"] = {"fairlead_pull_n": float(h[sel].mean()), "closed_form_n": float(e[sel].mean()),
                                 "ratio": float(h[sel].mean() / e[sel].mean())}
         hist[("axial", fr)] = (t, h, e)
-        print(f"axial {fr}: pull {h[sel].mean() / 1e3:.1f} kN, mu_kA w L_grounded {e[sel].mean() / 1e3:.1f} kN "
+        print(f"axial {fr}: pull {h[sel].mean() / 1e3:.1f} kN, mu_kA sum N {e[sel].mean() / 1e3:.1f} kN "
               f"({time.time() - t0:.0f} s)", flush=True)
     for fr in ("without", "directional", "stickslip"):
         t0 = time.time()
         t, mom, e = transverse_case(fr, d_tr)
-        sel = t >= t[-1] - 0.25 * d_tr
+        sel = t >= t[-1] - 100.0
         cases[f"transverse_{fr}"] = {"moment_nm": float(mom[sel].mean()), "closed_form_nm": float(e[sel].mean())}
         hist[("transverse", fr)] = (t, mom, e)
-        print(f"transverse {fr}: moment {mom[sel].mean() / 1e6:.2f} MN m, friction closed form "
+        print(f"transverse {fr}: moment {mom[sel].mean() / 1e6:.2f} MN m, Coulomb bound "
               f"{e[sel].mean() / 1e6:.2f} MN m ({time.time() - t0:.0f} s)", flush=True)
     for fr in ("directional", "stickslip"):
         c = cases[f"transverse_{fr}"]
@@ -459,15 +509,31 @@ def tables(res) -> str:
                     mm = f"{v['min'] / 1e3:.1f}-{v['max'] / 1e3:.1f}" if v["min"] is not None else "-"
                     out.append(f"| {b}, {load}, {ln}, {fr} | {v['segments']} | {mm} | "
                                f"{v['anchor_tension'] / 1e3:.1f} |")
+    out += ["", "| statics (no load, frictionless): bathymetry | platform surge / sway / heave [m] | line 1 fairlead "
+            "tension [kN]: ours dynamic / ours quasi-static / MoorPy | line 1 anchor tension [kN]: same |",
+            "|---|---|---|---|"]
+    for b, st in res["statics"].items():
+        p = st["pose"]
+        mp = st["moorpy"]
+        qs = st["ours_quasistatic"]
+        fl = [st["ours_dynamic_statics"]["fairlead"][0], qs["fairlead"][0] if "fairlead" in qs else None,
+              mp["fairlead"][0] if mp else None]
+        an = [st["ours_dynamic_statics"]["anchor"][0], qs["anchor"][0] if "anchor" in qs else None,
+              mp["anchor"][0] if mp else None]
+
+        def fmt(vals):
+            return " / ".join("failed" if v is None else f"{v / 1e3:.2f}" for v in vals)
+
+        out.append(f"| {b} | {p[0]:.2f} / {p[1]:.2f} / {p[2]:.2f} | {fmt(fl)} | {fmt(an)} |")
     c = res["friction_cases"]
     out += ["", "| single-line case | ours | closed form | ratio |", "|---|---|---|---|"]
     for fr in ("directional", "stickslip"):
         a = c[f"axial_{fr}"]
-        out.append(f"| axial, {fr}: fairlead pull [kN] vs mu_kA w L_grounded | {a['fairlead_pull_n'] / 1e3:.1f} | "
+        out.append(f"| axial, {fr}: fairlead pull [kN] vs mu_kA sum N | {a['fairlead_pull_n'] / 1e3:.1f} | "
                    f"{a['closed_form_n'] / 1e3:.1f} | {a['ratio']:.3f} |")
     for fr in ("directional", "stickslip"):
         a = c[f"transverse_{fr}"]
-        out.append(f"| transverse, {fr}: friction moment about the anchor [MN m] vs mu_kT w sum(r lam) | "
+        out.append(f"| transverse, {fr}: friction moment about the anchor [MN m] vs its bound mu_kT sum(r N) | "
                    f"{a['friction_moment_nm'] / 1e6:.2f} | {a['closed_form_nm'] / 1e6:.2f} | {a['ratio']:.3f} |")
     return "\n".join(out) + "\n"
 
@@ -528,7 +594,7 @@ def figures(res, hist, profiles):
     for fr, col in (("directional", "C0"), ("stickslip", "C3")):
         t, h, e = hist[("axial", fr)]
         axs[0].plot(t, h / 1e3, color=col, label=f"{fr}: fairlead pull")
-        axs[0].plot(t, e / 1e3, color=col, ls=":", label=f"{fr}: mu_kA w L_grounded")
+        axs[0].plot(t, e / 1e3, color=col, ls=":", label=f"{fr}: mu_kA sum N")
     axs[0].set_title("axial: anchor released, fairlead pulled at 0.2 m/s")
     axs[0].set_xlabel("time [s]")
     axs[0].set_ylabel("[kN]")
@@ -537,7 +603,7 @@ def figures(res, hist, profiles):
         axs[1].plot(t, mom / 1e6, color=col, label=f"{fr}: moment of the pull about the anchor")
         if fr != "without":
             t0, m0, _ = hist[("transverse", "without")]
-            axs[1].plot(t, (m0 + e) / 1e6, color=col, ls=":", label=f"{fr}: no-friction + mu_kT w sum(r lam)")
+            axs[1].plot(t, (m0 + e) / 1e6, color=col, ls=":", label=f"{fr}: no-friction + mu_kT sum(r N)")
     axs[1].set_title("transverse: fairlead swept around the anchor at 0.9 m/s")
     axs[1].set_xlabel("time [s]")
     axs[1].set_ylabel("[MN m]")
