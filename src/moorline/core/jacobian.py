@@ -29,6 +29,7 @@ from numba import njit
 
 from .floating import radiation_trapezoid
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
+from .numerics import quat_mul
 from .rhs import rhs
 from .seabed import contact_slope, seabed_at
 
@@ -309,18 +310,7 @@ def _rotate_quat(q0, o0, tx, ty, tz, out, o):
         s = math.sin(0.5 * ang) / ang
     else:
         s = 0.5 - ang * ang / 48.0
-    rw = math.cos(0.5 * ang)
-    rx = s * tx
-    ry = s * ty
-    rz = s * tz
-    w = q0[o0]
-    x = q0[o0 + 1]
-    y = q0[o0 + 2]
-    z = q0[o0 + 3]
-    out[o] = rw * w - rx * x - ry * y - rz * z
-    out[o + 1] = rw * x + rx * w + ry * z - rz * y
-    out[o + 2] = rw * y - rx * z + ry * w + rz * x
-    out[o + 3] = rw * z + rx * y - ry * x + rz * w
+    quat_mul(math.cos(0.5 * ang), s * tx, s * ty, s * tz, q0, o0, out, o)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -203,3 +203,16 @@ def matvec3(Rm, x, y, z):
     """Rm (x, y, z) for a 3x3 matrix Rm."""
     return (Rm[0, 0] * x + Rm[0, 1] * y + Rm[0, 2] * z, Rm[1, 0] * x + Rm[1, 1] * y + Rm[1, 2] * z,
             Rm[2, 0] * x + Rm[2, 1] * y + Rm[2, 2] * z)
+
+
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def quat_mul(aw, ax, ay, az, b, ob, out, oo):
+    """out[oo:oo+4] = (aw, ax, ay, az) (x) b[ob:ob+4], quaternions (w, x, y, z)."""
+    bw = b[ob]
+    bx = b[ob + 1]
+    by = b[ob + 2]
+    bz = b[ob + 3]
+    out[oo] = aw * bw - ax * bx - ay * by - az * bz
+    out[oo + 1] = aw * bx + ax * bw + ay * bz - az * by
+    out[oo + 2] = aw * by - ax * bz + ay * bw + az * bx
+    out[oo + 3] = aw * bz + ax * by - ay * bx + az * bw
