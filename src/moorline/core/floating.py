@@ -52,7 +52,7 @@ from .layout import (
     RAD_CONVOLUTION,
     RAD_STATE_SPACE,
 )
-from .numerics import quat_mul, quat_to_R, solve_dense
+from .numerics import lu_factor, lu_solve, quat_mul, quat_to_R, solve_dense
 from .waterkin import _ramp, fluid_at
 
 
@@ -581,31 +581,13 @@ def _joint_violation(F, FW, W, jn, out):
 # ------------------------------------------------------------------------------------ implicit scheme
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _factor_pair(F, fw, p, h):
-    """LU factors (partial pivoting) of I - h/2 A of state-space pair ``p`` into fw.lu."""
+    """LU factors of I - h/2 A of state-space pair ``p`` into fw.lu (rows of the pair)."""
     p0 = F.ss_ptr[p]
     n = F.ss_ptr[p + 1] - p0
-    lu = fw.lu
-    piv = fw.lu_piv
     for r in range(n):
         for c in range(n):
-            lu[p0 + r, c] = (1.0 if r == c else 0.0) - 0.5 * h * F.ss_A[p0 + r, c]
-    for c in range(n):
-        q = c
-        big = abs(lu[p0 + c, c])
-        for r in range(c + 1, n):
-            if abs(lu[p0 + r, c]) > big:
-                big = abs(lu[p0 + r, c])
-                q = r
-        piv[p0 + c] = q
-        if q != c:
-            for k in range(n):
-                tmp = lu[p0 + c, k]
-                lu[p0 + c, k] = lu[p0 + q, k]
-                lu[p0 + q, k] = tmp
-        for r in range(c + 1, n):
-            lu[p0 + r, c] /= lu[p0 + c, c]
-            for k in range(c + 1, n):
-                lu[p0 + r, k] -= lu[p0 + r, c] * lu[p0 + c, k]
+            fw.lu[p0 + r, c] = (1.0 if r == c else 0.0) - 0.5 * h * F.ss_A[p0 + r, c]
+    lu_factor(fw.lu, p0, n, fw.lu_piv)
     fw.lu_h[p] = h
 
 
@@ -631,20 +613,7 @@ def radiation_trapezoid(y0, y1, h, R, F, FW):
             for c in range(n):
                 s += 0.5 * h * F.ss_A[p0 + r, c] * y0[zoff + p0 + c]
             b[r] = s
-        # forward and back substitution with the row swaps of the factorisation
-        for c in range(n):
-            q = fw.lu_piv[p0 + c]
-            if q != c:
-                tmp = b[c]
-                b[c] = b[q]
-                b[q] = tmp
-            for r in range(c + 1, n):
-                b[r] -= fw.lu[p0 + r, c] * b[c]
-        for r in range(n - 1, -1, -1):
-            s = b[r]
-            for c in range(r + 1, n):
-                s -= fw.lu[p0 + r, c] * b[c]
-            b[r] = s / fw.lu[p0 + r, r]
+        lu_solve(fw.lu, p0, n, fw.lu_piv, b)
         for r in range(n):
             y1[zoff + p0 + r] = b[r]
 
