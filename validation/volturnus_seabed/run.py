@@ -340,7 +340,17 @@ def transverse_case(friction: str, duration: float, speed: float = 0.9, ramp: fl
 def statics(ds, bathy: str) -> dict:
     """Line tensions at the frictionless equilibrium pose of the platform: the dynamic model's statics, our
     quasi-static solver and MoorPy 1.3.0 (its grid set directly, as tests/quasistatic do), the platform held
-    at the same pose and the junctions free."""
+    at the same pose and the junctions free; MoorPy also at our junction positions (its lines' tensions there
+    and the net force they leave on each junction).
+
+    MoorPy 1.3.0's equilibrium solver keeps free points above its flat ``depth`` whatever the bathymetry
+    (system.py, ``solveEquilibrium``: a z DOF at or below ``-self.depth`` is clamped there and dropped): with
+    the deck's 850 m, the downslope's line-1 junction (880 m deep over a 937 m seabed) was held at 850 m with
+    221 kN of vertical force unbalanced. Its ``depth`` is therefore set below the deepest grid point; its
+    lines take their seabed from the grid (``seabedMod`` 2) either way. MoorPy's lines stay in their vertical
+    planes, with the seabed slope between the depths under their two ends: a chain lying across a slope's fall
+    line (lines 2 and 3 on the up- and downslope, all three on the sideslope) cannot bow down the slope as
+    ours does (``grounded_plan_bow_m``), so only lines along the fall line compare like for like."""
     import contextlib
     import io
 
@@ -363,6 +373,21 @@ def statics(ds, bathy: str) -> dict:
     s.set_state(line_positions=lines, point_positions=points)
     T = s.line_end_tensions()
     out["ours_dynamic_statics"] = {"fairlead": T[3:, 1].tolist(), "anchor": T[:3, 0].tolist()}
+    free = [k for k, pt in enumerate(m.points) if pt.kind.name == "FREE"]
+    out["junctions_ours_m"] = [points[k].tolist() for k in free]
+    # the grounded chain's largest distance, in plan, from the straight chord between its ends (a frictionless
+    # chain lying across a slope's fall line bows down the slope)
+    bow = []
+    for k in range(3):
+        r = lines[k]
+        on = r[:, 2] < seabed_height(s, r) + 0.5
+        rg = r[on]
+        if len(rg) < 3:
+            bow.append(0.0)
+            continue
+        u = (rg[-1, :2] - rg[0, :2]) / np.linalg.norm(rg[-1, :2] - rg[0, :2])
+        bow.append(float(np.max(np.abs((rg[:, :2] - rg[0, :2]) @ np.array([-u[1], u[0]])))))
+    out["grounded_plan_bow_m"] = bow
     try:
         import moorpy as mp
     except ImportError:
@@ -378,13 +403,21 @@ def statics(ds, bathy: str) -> dict:
         bt = m.env.bathymetry
         if bt is not None:
             ms.bathGrid_Xs, ms.bathGrid_Ys, ms.bathGrid, ms.seabedMod = bt.x, bt.y, -bt.z, 2
+            ms.depth = float(np.max(-bt.z)) + 100.0  # no clamp of the free points (see the docstring)
         body = ms.bodyList[0]
         body.type = -1
         body.r6 = np.array(pose, dtype=float)
         ms.initialize()
-        ms.solveEquilibrium(tol=1e-8, maxIter=5000)
+        out["moorpy_at_our_junctions"] = {
+            "fairlead": [float(ms.lineList[k].TB) for k in (3, 4, 5)],
+            "anchor": [float(ms.lineList[k].TA) for k in (0, 1, 2)],
+            "junction_force_n": [np.asarray(ms.pointList[k].getForces(), dtype=float).tolist() for k in free]}
+        converged = ms.solveEquilibrium(tol=1e-8, maxIter=5000)
     out["moorpy"] = {"fairlead": [float(ms.lineList[k].TB) for k in (3, 4, 5)],
-                     "anchor": [float(ms.lineList[k].TA) for k in (0, 1, 2)]}
+                     "anchor": [float(ms.lineList[k].TA) for k in (0, 1, 2)],
+                     "junctions_m": [np.asarray(ms.pointList[k].r, dtype=float).tolist() for k in free],
+                     "junction_force_n": [np.asarray(ms.pointList[k].getForces(), dtype=float).tolist() for k in free],
+                     "converged": bool(converged)}
     return out
 
 
@@ -392,8 +425,12 @@ def statics(ds, bathy: str) -> dict:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="short runs for CI (results_quick.json, no figures)")
+    ap.add_argument("--statics", action="store_true",
+                    help="only the frictionless equilibria and the statics comparison, merged into results.json")
     args = ap.parse_args(argv)
     logging.getLogger("moorline").setLevel(logging.ERROR)
+    if args.statics:
+        return statics_only()
     quick = args.quick
     t_start = time.time()
     timing = {}
@@ -488,6 +525,25 @@ def main(argv=None):
     return res
 
 
+def statics_only():
+    """Recompute the ``statics`` entry of results.json (all four bathymetries) and its tables, keeping the
+    time-domain results: the equilibria take about a minute per slope, the full run about ten."""
+    out = HERE / "results.json"
+    res = json.loads(out.read_text())
+    ds = coefficients()
+    t0 = time.time()
+    for b in BATHYMETRIES:
+        start_at_equilibrium(moorline.System(build(ds, b, "without")), ds, b)
+        res["statics"][b] = statics(ds, b)
+        st = res["statics"][b]
+        print(f"{b:10s} line-1 fairlead tension: ours {st['ours_dynamic_statics']['fairlead'][0] / 1e3:.2f} kN, "
+              f"MoorPy {st['moorpy']['fairlead'][0] / 1e3:.2f} kN ({time.time() - t0:.0f} s)", flush=True)
+    res["run_time_s"]["statics_only_s"] = time.time() - t0
+    out.write_text(json.dumps(res, indent=1, default=float) + "\n")
+    (HERE / "tables.md").write_text(tables(res))
+    return res
+
+
 def tables(res) -> str:
     f = res["fairlead_tension_mean_n"]
     rng = res["fairlead_tension_range_n"]
@@ -508,22 +564,27 @@ def tables(res) -> str:
                     mm = f"{v['min'] / 1e3:.1f}-{v['max'] / 1e3:.1f}" if v["min"] is not None else "-"
                     out.append(f"| {b}, {load}, {ln}, {fr} | {v['segments']} | {mm} | "
                                f"{v['anchor_tension'] / 1e3:.1f} |")
-    out += ["", "| statics (no load, frictionless): bathymetry | platform surge / sway / heave [m] | line 1 fairlead "
-            "tension [kN]: ours dynamic / ours quasi-static / MoorPy | line 1 anchor tension [kN]: same |",
-            "|---|---|---|---|"]
+    out += ["", "| statics (no load, frictionless): bathymetry | platform surge / sway / heave [m] | fairlead tension "
+            "[kN], lines 1 / 2 / 3: ours dynamic; ours quasi-static; MoorPy | line 1 anchor tension [kN]: ours "
+            "dynamic / ours quasi-static / MoorPy | MoorPy's net force on the line-1 junction at ours [kN] | "
+            "grounded chains' plan bow, lines 1 / 2 / 3 [m] |", "|---|---|---|---|---|---|"]
+
+    def fmt(vals, sep=" / "):
+        return sep.join("failed" if v is None else f"{v / 1e3:.1f}" for v in vals)
+
     for b, st in res["statics"].items():
         p = st["pose"]
         mp = st["moorpy"]
         qs = st["ours_quasistatic"]
-        fl = [st["ours_dynamic_statics"]["fairlead"][0], qs["fairlead"][0] if "fairlead" in qs else None,
-              mp["fairlead"][0] if mp else None]
+        fl = "; ".join(fmt(v) for v in (st["ours_dynamic_statics"]["fairlead"], qs.get("fairlead", [None] * 3),
+                                         mp["fairlead"] if mp else [None] * 3))
         an = [st["ours_dynamic_statics"]["anchor"][0], qs["anchor"][0] if "anchor" in qs else None,
               mp["anchor"][0] if mp else None]
-
-        def fmt(vals):
-            return " / ".join("failed" if v is None else f"{v / 1e3:.2f}" for v in vals)
-
-        out.append(f"| {b} | {p[0]:.2f} / {p[1]:.2f} / {p[2]:.2f} | {fmt(fl)} | {fmt(an)} |")
+        jf = "-"
+        if mp and "moorpy_at_our_junctions" in st:
+            jf = f"{np.linalg.norm(st['moorpy_at_our_junctions']['junction_force_n'][0]) / 1e3:.1f}"
+        bow = " / ".join(f"{v:.1f}" for v in st.get("grounded_plan_bow_m", []))
+        out.append(f"| {b} | {p[0]:.2f} / {p[1]:.2f} / {p[2]:.2f} | {fl} | {fmt(an)} | {jf} | {bow or '-'} |")
     c = res["friction_cases"]
     out += ["", "| single-line case | ours | closed form | ratio |", "|---|---|---|---|"]
     for fr in ("directional", "stickslip"):
