@@ -54,6 +54,7 @@ MORISON_CD = 0.6
 #: Table 3 of the paper: extra yaw stiffness [N m/rad] and yaw damping (linear [N m s/rad], quadratic
 #: [N m s^2/rad^2]); the damping only on the quasi-static and the single-line dynamic models
 TUNE_K = {"single": 140.0e6, "bridle": 35.0e6}
+FAIRLEAD_RADIUS = 5.2  # [m] (issue 17); the decks' bridle fairleads at +-30 deg about each line's azimuth
 TUNE_B_LIN, TUNE_B_QUAD = 10.0e6, 100.0e6
 
 #: the five configurations: (layout, mooring mode, scheme, dtM [s], takes the Table 3 damping)
@@ -281,6 +282,41 @@ def quasistatic_stiffness(ds, layout: str):
     return out
 
 
+#: half-angles [deg] of a bridle's two fairleads about the line's azimuth for the spacing sweep (the decks: 30)
+BRIDLE_HALF_ANGLES = (5.0, 10.0, 20.0, 30.0, 40.0, 50.0, 55.0, 60.0, 65.0, 75.0, 90.0)
+
+
+def bridle_spacing_sweep(pose_single, pose_bridle) -> dict:
+    """Quasi-static yaw stiffness of the bridles against the spacing of each bridle's two fairleads (neither the
+    paper nor the issue gives it), the body held at the bridle deck's equilibrium pose (the pretension, hence
+    the heave, changes with the spacing; the sweep shows the sensitivity, not new equilibria); beside it the
+    single lines' at theirs, and the difference the paper's Table 3 implies (140e6 - 35e6)."""
+    k_single = float(QuasiStaticModel(read_deck(HERE / "oc3_single.dat"), bodies_free=False)
+                     .solve(np.asarray(pose_single)).stiffness[5, 5])
+    rows = []
+    for phi in BRIDLE_HALF_ANGLES:
+        m = read_deck(HERE / "oc3_bridle.dat")
+        fair = [p for p in m.points if p.kind.name == "BODY"]
+        if len(fair) != 6:
+            raise RuntimeError(f"expected 6 fairleads on the body, found {len(fair)}")
+        for i, p in enumerate(fair):  # points 7-12 of the deck: bridles at 0, 120, 240 deg, legs at -phi, +phi
+            az = np.radians(120.0 * (i // 2) + (phi if i % 2 else -phi))
+            p.r[0], p.r[1] = FAIRLEAD_RADIUS * np.cos(az), FAIRLEAD_RADIUS * np.sin(az)
+        sol = QuasiStaticModel(m, bodies_free=False).solve(np.asarray(pose_bridle))
+        rows.append({"half_angle_deg": phi, "spacing_m": float(2.0 * FAIRLEAD_RADIUS * np.sin(np.radians(phi))),
+                     "yaw_stiffness_nm_per_rad": float(sol.stiffness[5, 5]),
+                     "extra_over_single_nm_per_rad": float(sol.stiffness[5, 5]) - k_single,
+                     "anchor_tension_n": float(sol.tensions[0, 0])})
+    target = TUNE_K["single"] - TUNE_K["bridle"]
+    extra = np.array([r["extra_over_single_nm_per_rad"] for r in rows])
+    phis = np.array(BRIDLE_HALF_ANGLES)
+    implied = float(np.interp(target, extra, phis)) if extra[0] < target < extra[-1] else None
+    return {"single_yaw_stiffness_nm_per_rad": k_single, "rows": rows, "paper_difference_nm_per_rad": target,
+            "implied_half_angle_deg": implied,
+            "implied_spacing_m": None if implied is None else
+            float(2.0 * FAIRLEAD_RADIUS * np.sin(np.radians(implied)))}
+
+
 def moorpy_statics(layout: str, pose):
     """MoorPy 1.3.0 on the same deck with the body held at ``pose`` (its junctions free)."""
     try:
@@ -325,8 +361,18 @@ def regular_wave(ds, config: str, duration: float, dt: float = 0.25, ramp=3 * WA
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="short runs for CI (results_quick.json, no figures)")
+    ap.add_argument("--sweep", action="store_true",
+                    help="only the bridle-spacing sweep (seconds), merged into results.json at its poses")
     args = ap.parse_args(argv)
     logging.getLogger("moorline").setLevel(logging.ERROR)
+    if args.sweep:
+        out = HERE / "results.json"
+        res = json.loads(out.read_text())
+        res["bridle_spacing_sweep"] = bridle_spacing_sweep(res["statics"]["single"]["pose"],
+                                                           res["statics"]["bridle"]["pose"])
+        out.write_text(json.dumps(res, indent=1, default=float) + "\n")
+        (HERE / "tables.md").write_text(tables(res))
+        return res
     quick = args.quick
     t_start = time.time()
     timing = {}
@@ -341,6 +387,7 @@ def main(argv=None):
     statics = {lay: quasistatic_stiffness(ds, lay) for lay in ("single", "bridle")}
     res["statics"] = statics
     res["yaw_stiffness_nm_per_rad"] = {lay: statics[lay]["yaw_stiffness"] for lay in statics}
+    res["bridle_spacing_sweep"] = bridle_spacing_sweep(statics["single"]["pose"], statics["bridle"]["pose"])
     timing["statics_s"] = time.time() - t_start
 
     configs = list(CONFIGS)
@@ -458,6 +505,17 @@ def tables(res) -> str:
         row = [f"{st[lay][key][0] / 1e3:.3f} | " + (f"{st[lay]['moorpy'][key][0] / 1e3:.3f}" if st[lay]["moorpy"]
                                                     else "-") for lay in ("single", "bridle")]
         out.append(f"| {lab} | " + " | ".join(row) + " |")
+    sw = res.get("bridle_spacing_sweep")
+    if sw:
+        out += ["", "| bridle fairleads: half-angle [deg] / spacing [m] | quasi-static yaw stiffness [MN m/rad] | "
+                "over single lines [MN m/rad] | line 1 anchor tension [kN] |", "|---|---|---|---|"]
+        for r in sw["rows"]:
+            out.append(f"| {r['half_angle_deg']:.0f} / {r['spacing_m']:.2f} | "
+                       f"{r['yaw_stiffness_nm_per_rad'] / 1e6:.1f} | {r['extra_over_single_nm_per_rad'] / 1e6:.1f} | "
+                       f"{r['anchor_tension_n'] / 1e3:.0f} |")
+        if sw["implied_half_angle_deg"] is not None:
+            out.append(f"| the paper's {sw['paper_difference_nm_per_rad'] / 1e6:.0f} MN m/rad (Table 3) | - | - | "
+                       f"at {sw['implied_half_angle_deg']:.1f} deg / {sw['implied_spacing_m']:.2f} m |")
     return "\n".join(out) + "\n"
 
 
