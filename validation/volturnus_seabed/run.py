@@ -48,6 +48,9 @@ SLOPE = 0.125
 #: saturated-damping creep constant [N s/m]
 MU_KT, MU_KA, MC, CV = 1.0, 0.69, 1.33, 1.0e6
 BATHYMETRIES = ("flat", "upslope", "downslope", "sideslope")
+#: the loaded-line case of the grounded-chain comparison: under the full thrust line 1 (upwind) lifts off its
+#: whole chain, so the paper's loaded grounded chain is shown at 0.4 x the thrust (flat seabed, steady wind)
+LOADED_THRUST_SCALE = 0.4
 
 
 # ------------------------------------------------------------------ the platform from the public files
@@ -182,8 +185,10 @@ def thrust_load(scale: float) -> np.ndarray:
     return scale * np.array([THRUST, 0.0, 0.0, 0.0, HUB_HEIGHT * THRUST, 0.0])
 
 
-def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: float = 0.5, ramp: float = 600.0):
-    """Line-1 fairlead tension history, and the line-1 segment tensions at the end."""
+def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: float = 0.5, ramp: float = 600.0,
+             thrust_scale: float = 1.0):
+    """Line-1 fairlead tension history, and the line-1 segment tensions at the end; ``thrust_scale`` scales the
+    wind thrust."""
     waves = Waves.regular(WAVE_H, WAVE_T, heading=WAVE_HEADING, ramp_time=3 * WAVE_T) if loading == "waves" else None
     s = moorline.System(build(ds, bathy, friction, waves=waves))
     start_at_equilibrium(s, ds, bathy)
@@ -196,7 +201,7 @@ def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: f
         if loading == "wind":
             # a smooth ramp over about two surge periods (the soft semi-taut system's is about 330 s), so that
             # the platform reaches its mean offset without a large surge transient
-            s.layout.fl.Fc[0][:] = thrust_load(0.5 * (1.0 - np.cos(np.pi * min(1.0, t[k - 1] / ramp))))
+            s.layout.fl.Fc[0][:] = thrust_load(thrust_scale * 0.5 * (1.0 - np.cos(np.pi * min(1.0, t[k - 1] / ramp))))
         s.step(None, None, t[k - 1], dt)
         ten[k] = s.line_end_tensions()[3, 1]  # line 4: line 1's polyester, its end B the fairlead
         pose[k] = s.bodies[0].pose()
@@ -211,6 +216,33 @@ def run_case(ds, bathy: str, friction: str, loading: str, duration: float, dt: f
 
 
 _EQUILIBRIA = {}
+
+
+def loaded_grounded_chain(ds) -> dict:
+    """Segment tensions along line 1's grounded chain (anchor first) at the end of 1200 s of steady wind at
+    ``LOADED_THRUST_SCALE`` x the thrust on the flat seabed, for the three friction settings; beside them the
+    closed-form gradient of fully mobilised axial kinetic friction, mu_kA W per metre."""
+    out = {"thrust_n": LOADED_THRUST_SCALE * THRUST, "segment_length_m": None,
+           "friction_gradient_n_per_m": MU_KA * chain_wet_weight()}
+    for fr, model in (("with", "directional"), ("without", "without"), ("stickslip", "stickslip")):
+        _, ten, pose, prof = run_case(ds, "flat", model, "wind", 1200.0, thrust_scale=LOADED_THRUST_SCALE)
+        p = prof["line1"]
+        on = np.array(p["node_z"]) < np.array(p["seabed_z"]) + 0.5
+        seg = on[:-1] & on[1:]
+        T = np.array(p["segment_tension"])[seg]
+        xy = np.array(p["node_xy"])
+        out["segment_length_m"] = float(np.linalg.norm(xy[1] - xy[0]))
+        out[fr] = {"segment_tension_n": T.tolist(), "segments": int(seg.sum()),
+                   "fairlead_tension_n": float(ten[-1]), "surge_m": float(pose[-1, 0])}
+        if T.size > 1:
+            out[fr]["gradient_n_per_m"] = float((T[-1] - T[0]) / ((T.size - 1) * out["segment_length_m"]))
+    return out
+
+
+def chain_wet_weight() -> float:
+    """Wet weight of the chain [N/m] from the deck's type (mass and volume-equivalent diameter)."""
+    lt = read_deck(HERE / "volturnus_850m.dat").line_types["chain"]
+    return float((lt.w - RHO * np.pi / 4.0 * lt.d**2) * G)
 
 
 def start_at_equilibrium(s, ds, bathy: str) -> None:
@@ -427,10 +459,22 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="short runs for CI (results_quick.json, no figures)")
     ap.add_argument("--statics", action="store_true",
                     help="only the frictionless equilibria and the statics comparison, merged into results.json")
+    ap.add_argument("--loaded", action="store_true",
+                    help="only the loaded-line grounded-chain case (three runs), merged into results.json")
     args = ap.parse_args(argv)
     logging.getLogger("moorline").setLevel(logging.ERROR)
     if args.statics:
         return statics_only()
+    if args.loaded:
+        out = HERE / "results.json"
+        res = json.loads(out.read_text())
+        t0 = time.time()
+        res["grounded_chain_tension_loaded_n"] = loaded_grounded_chain(coefficients())
+        res["run_time_s"]["loaded_grounded_chain_s"] = time.time() - t0
+        out.write_text(json.dumps(res, indent=1, default=float) + "\n")
+        (HERE / "tables.md").write_text(tables(res))
+        figure_loaded(res)
+        return res
     quick = args.quick
     t_start = time.time()
     timing = {}
@@ -479,6 +523,9 @@ def main(argv=None):
             print(f"{b:10s} {load:6s} stick-slip mean fairlead tension {stick[b][load] / 1e3:9.1f} kN "
                   f"({time.time() - t0:.0f} s)", flush=True)
     res["fairlead_tension_mean_n_stickslip"] = stick
+    t0 = time.time()
+    res["grounded_chain_tension_loaded_n"] = loaded_grounded_chain(ds)
+    timing["loaded_grounded_chain_s"] = time.time() - t0
     # the grounded chain's tensions at the end of each run: line 1 (upwind under the thrust) and line 2
     res["grounded_chain_tension_n"] = {}
     for (b, load, fr), prof in profiles.items():
@@ -585,6 +632,17 @@ def tables(res) -> str:
             jf = f"{np.linalg.norm(st['moorpy_at_our_junctions']['junction_force_n'][0]) / 1e3:.1f}"
         bow = " / ".join(f"{v:.1f}" for v in st.get("grounded_plan_bow_m", []))
         out.append(f"| {b} | {p[0]:.2f} / {p[1]:.2f} / {p[2]:.2f} | {fl} | {fmt(an)} | {jf} | {bow or '-'} |")
+    ld = res.get("grounded_chain_tension_loaded_n")
+    if ld:
+        out += ["", f"| loaded line 1, flat, steady wind at {ld['thrust_n'] / 1e3:.0f} kN | grounded segments | "
+                "tension at the anchor / at the touchdown [kN] | gradient [N/m] (mu_kA W = "
+                f"{ld['friction_gradient_n_per_m']:.0f}) |", "|---|---|---|---|"]
+        for fr in ("with", "without", "stickslip"):
+            v = ld[fr]
+            T = v["segment_tension_n"]
+            g = v.get("gradient_n_per_m")
+            out.append(f"| {fr} | {v['segments']} | " + (f"{T[0] / 1e3:.1f} / {T[-1] / 1e3:.1f}" if T else "-")
+                       + " | " + ("-" if g is None else f"{g:.0f}") + " |")
     c = res["friction_cases"]
     out += ["", "| single-line case | ours | closed form | ratio |", "|---|---|---|---|"]
     for fr in ("directional", "stickslip"):
@@ -598,7 +656,30 @@ def tables(res) -> str:
     return "\n".join(out) + "\n"
 
 
+def figure_loaded(res):
+    """Segment tension along line 1's grounded chain under the reduced thrust, the three friction settings."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ld = res["grounded_chain_tension_loaded_n"]
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for fr, lab, ls in (("without", "no friction", "--"), ("with", "MoorDyn-F directional saturated damping", "-"),
+                        ("stickslip", "moorline stick-slip", ":")):
+        T = np.array(ld[fr]["segment_tension_n"])
+        ax.plot((np.arange(T.size) + 0.5) * ld["segment_length_m"], T / 1e3, ls, marker="o", ms=3, label=lab)
+    ax.set_xlabel("distance along the grounded chain from the anchor [m]")
+    ax.set_ylabel("segment tension [kN]")
+    ax.set_title(f"line 1 (loaded), flat seabed, steady thrust {ld['thrust_n'] / 1e3:.0f} kN")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(HERE / "grounded_tension_loaded.png", dpi=90)
+    plt.close(fig)
+
+
 def figures(res, hist, profiles):
+    figure_loaded(res)
     import matplotlib
 
     matplotlib.use("Agg")
