@@ -7,7 +7,7 @@ The buoy floats on Capytaine coefficients of an axisymmetric hull matching the p
 and centres (w4p.py), on four chains; the 70 m cable is clamped to a connector on the float's
 side and to a fixed connector at the hub (54, 0, -1) m. Every scatter-diagram cell with Hs 0.5 to
 7.5 m runs as the regular wave H = Hs/sqrt(2), T = Tz with the 1 m/s current, waves and current
-toward -x. Each case: 240 s of transient (current and wave ramps, settling), then 10 periods
+toward -x. Each case: 120 s of transient (current and wave ramps, settling), then 10 periods
 analysed (``--paper-length``: the paper's 1500 s with 900-1500 s analysed). Tensile stress at 12
 points around the section, rainflow, the copper S-N curve, Miner, probability weighting; the first
 two elements at each end excluded.
@@ -16,8 +16,8 @@ The cases run through the study runner's executor (:func:`moorline.studies.execu
 local processes) with this study's own case function (:func:`w4p.run_case`).
 
 Writes ``results.json`` and ``w4p_*.png`` beside this script; exits 1 when a check fails.
-``--quick``: the two designs in the single condition Hs 3.5 m, Tz 7.5 s only, 150 s of transient
-and 8 periods analysed (life_years then covers that one cell only, marked partial).
+``--quick``: the two designs in the single condition Hs 3.5 m, Tz 7.5 s only, 8 periods analysed
+(life_years then covers that one cell only, marked partial).
 """
 
 from __future__ import annotations
@@ -59,28 +59,58 @@ class _Bar:
         print(f"    {self.n}/{self.total} cases, {time.perf_counter() - self.t0:.0f} s", flush=True)
 
 
+CACHE = HERE / "out" / "cases"  # finished cases (ignored by git): an interrupted run resumes
+
+
+def case_key(spec) -> str:
+    """Hash of everything that changes a case's answer (not the coefficients object itself: they
+    follow from the hull dimensions, which are in the key) and of the model source."""
+    import hashlib
+    import json
+
+    src = (HERE / "w4p.py").read_bytes()
+    d = {"design": spec.design, "H": spec.H, "T": spec.T, "duration": spec.duration, "window": spec.window,
+         "dtM": spec.dtM, "spp": spec.samples_per_period, "dims": spec.dims}
+    return hashlib.sha256(json.dumps(d, sort_keys=True, default=float).encode() + src).hexdigest()[:20]
+
+
 def run_all(specs, workers: int) -> list[dict]:
     """Run the cases on local worker processes (the study runner's executor); a failed case stops
-    the study with its message."""
+    the study with its message. Finished cases are kept in ``out/cases`` and reused."""
+    import pickle
+
+    CACHE.mkdir(parents=True, exist_ok=True)
     done: dict[int, dict] = {}
     errors = []
+    for s in specs:
+        f = CACHE / f"{case_key(s)}.pkl"
+        if f.exists():
+            done[id(s)] = pickle.loads(f.read_bytes())
+    pending = [s for s in specs if id(s) not in done]
+    if len(pending) < len(specs):
+        print(f"    {len(specs) - len(pending)} cases reused from {CACHE}", flush=True)
 
     def finished(spec, out):
         done[id(spec)] = out
+        tmp = CACHE / f"{case_key(spec)}.part"
+        tmp.write_bytes(pickle.dumps(out))
+        tmp.replace(CACHE / f"{case_key(spec)}.pkl")
 
     def failed(spec, e):
         errors.append(f"{spec.label}: {type(e).__name__}: {e}")
 
-    bar = _Bar(len(specs))
-    if workers <= 1:
-        for s in specs:
+    bar = _Bar(len(pending))
+    if not pending:
+        pass
+    elif workers <= 1:
+        for s in pending:
             try:
                 finished(s, w4p.run_case(s))
             except Exception as e:  # reported with the others
                 failed(s, e)
             bar.update(1)
     else:
-        run_local(w4p.run_case, specs, workers, finished, failed, bar)
+        run_local(w4p.run_case, pending, workers, finished, failed, bar)
     if errors:
         raise RuntimeError("cases failed:\n  " + "\n  ".join(errors))
     return [done[id(s)] for s in specs]
@@ -92,11 +122,11 @@ def spec_for(design, Hs, Tz, *, quick, paper, coeffs, dims, label=""):
         duration, window = 1500.0, 600.0
     else:
         n_per = 8 if quick else 10
-        transient = 150.0 if quick else 240.0
+        transient = 120.0
         window = n_per * T
         duration = transient + window
     return w4p.CaseSpec(dict(design), Hs / math.sqrt(2.0), T, label=label or f"Hs {Hs} Tz {Tz}", duration=duration,
-                        window=window, dtM=min(0.05, T / 100.0), coefficients=coeffs, dims=dims)
+                        window=window, dtM=min(0.1, T / 100.0), coefficients=coeffs, dims=dims)
 
 
 def keep_mask(n_nodes: int) -> np.ndarray:
@@ -123,6 +153,8 @@ def main(argv=None) -> int:
     ap.add_argument("--workers", type=int, default=min(2, os.cpu_count() or 1), help="local worker processes")
     ap.add_argument("--paper-length", action="store_true", help="1500 s per case, 900-1500 s analysed")
     ap.add_argument("--no-sweep", action="store_true", help="skip the parametric sweep (full mode)")
+    ap.add_argument("--hs-min", type=float, default=0.0,
+                    help="leave out the cells below this Hs [m] (their damage then counts as zero; say so)")
     a = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     started = time.perf_counter()
@@ -134,7 +166,7 @@ def main(argv=None) -> int:
         cells = [(SINGLE[0], SINGLE[1], float(scatter.P[list(scatter.Hs).index(SINGLE[0]),
                                                         list(scatter.Tz).index(SINGLE[1])]))]
     else:
-        cells = [(ss.Hs, ss.Tz, ss.probability) for ss in scatter.sea_states() if ss.Hs <= HS_MAX]
+        cells = [(ss.Hs, ss.Tz, ss.probability) for ss in scatter.sea_states() if a.hs_min <= ss.Hs <= HS_MAX]
     excluded = float(scatter.P[scatter.Hs > HS_MAX].sum())
     if not any(abs(h - SINGLE[0]) < 1e-9 and abs(t - SINGLE[1]) < 1e-9 for h, t, _ in cells):
         raise SystemExit("the single condition is not a cell of the scatter diagram")
@@ -144,14 +176,27 @@ def main(argv=None) -> int:
             specs.append(spec_for(design, Hs, Tz, quick=a.quick, paper=a.paper_length, coeffs=coeffs, dims=dims,
                                   label=f"{name} Hs {Hs} Tz {Tz}"))
             index.append((name, Hs, Tz, p))
-    print(f"W4P cable: {len(specs)} cases ({len(cells)} sea states x 2 designs) on {a.workers} workers", flush=True)
+    sweep_designs = [] if a.quick or a.no_sweep else \
+        [{"w": w, "EI": ei, "L": L} for w in SWEEP["w"] for ei in SWEEP["EI"] for L in SWEEP["L"]]
+    sweep_specs = [spec_for(d, *SINGLE, quick=False, paper=a.paper_length, coeffs=coeffs, dims=dims,
+                            label=f"sweep w {d['w']} EI {d['EI']} L {d['L']}") for d in sweep_designs]
+    # one executor call; the single condition and the sweep first, then the cells from the largest Hs
+    # down (the most damaging first: an interrupted run has its cache of those)
+    order = sorted(range(len(specs)), key=lambda k: (not (index[k][1] == SINGLE[0] and index[k][2] == SINGLE[1]),
+                                                    -index[k][1], index[k][2]))
+    queue = [specs[k] for k in order[:2]] + sweep_specs + [specs[k] for k in order[2:]]
+    print(f"W4P cable: {len(specs)} cases ({len(cells)} sea states x 2 designs) and {len(sweep_specs)} sweep designs "
+          f"on {a.workers} workers", flush=True)
     t_cases = time.perf_counter()
-    outs = run_all(specs, a.workers)
+    got = run_all(queue, a.workers)
     t_cases = time.perf_counter() - t_cases
+    by_id = {id(q): o for q, o in zip(queue, got, strict=True)}
+    outs = [by_id[id(sp)] for sp in specs]
+    sw = [by_id[id(sp)] for sp in sweep_specs]
 
     res: dict = {"hull": dims, "cells": len(cells), "probability_simulated": float(sum(p for *_, p in cells)),
                  "probability_excluded_survival": excluded, "partial": bool(a.quick),
-                 "case_settings": {"transient_s": specs[0].duration - specs[0].window, "dtM_s": "min(0.05, T/100)",
+                 "case_settings": {"transient_s": specs[0].duration - specs[0].window, "dtM_s": "min(0.1, T/100)",
                                    "periods_analysed": "window / T", "paper_length": bool(a.paper_length)}}
     life, single, per = {}, {}, {}
     for name in w4p.DESIGNS:
@@ -192,19 +237,15 @@ def main(argv=None) -> int:
               lo=-w4p.DEPTH + 2 * w4p.CABLE["d"], why="the paper's free-hanging configuration")
 
     # the parametric sweep in the single condition
-    if not a.quick and not a.no_sweep:
-        designs = [{"w": w, "EI": ei, "L": L} for w in SWEEP["w"] for ei in SWEEP["EI"] for L in SWEEP["L"]]
-        sweep_specs = [spec_for(d, *SINGLE, quick=False, paper=a.paper_length, coeffs=coeffs, dims=dims,
-                                label=f"sweep w {d['w']} EI {d['EI']} L {d['L']}") for d in designs]
-        print(f"  sweep: {len(sweep_specs)} designs in the single condition", flush=True)
-        sw = run_all(sweep_specs, a.workers)
+    if sweep_designs:
         res["sweep_single_condition"] = [{**d, "life_years": lifetime([o], np.array([1.0]))["life_years"],
                                           "critical_s_m": lifetime([o], np.array([1.0]))["critical_s_m"],
                                           "curvature_max_per_m": float(np.max(o["curvature_max"][
                                               keep_mask(o["curvature_max"].size)])),
-                                          "min_clearance_m": o["min_clearance"]} for d, o in zip(designs, sw,
+                                          "min_clearance_m": o["min_clearance"]} for d, o in zip(sweep_designs, sw,
                                                                                                  strict=True)]
-    res["case_time_s"] = {"total_wall": t_cases, "sum_of_cases": float(sum(o["wall_time_s"] for o in outs))}
+    res["case_time_s"] = {"total_wall": t_cases, "sum_of_cases": float(sum(o["wall_time_s"] for o in outs + sw))}
+    res["hs_min_m"] = a.hs_min
     res["checks"], res["comparisons"], res["passed"] = chk.items, chk.comparisons, chk.passed
     out = common.write_results(HERE / "results.json", res, quick=a.quick, started=started)
     paths = figures(per, index, outs, res, a.quick)

@@ -266,7 +266,8 @@ def run_case(spec: CaseSpec) -> dict:
                axis=0))]), "heave_range": float(np.ptp(pose[:, 2])), "surge_range": float(np.ptp(pose[:, 0])),
            "surge_mean": float(np.mean(pose[:, 0])), "pitch_range": float(np.ptp(pose[:, 4])),
            "z_mean": float(np.mean(pose[:, 2])),
-           "cable_z_min": float(pos[:, :, 2].min()), "ic": dict(s.ic_report), "wall_time_s": time.perf_counter() - wall0}
+           "cable_z_min": float(pos[:, :, 2].min()), "ic": dict(s.ic_report),
+           "wall_time_s": time.perf_counter() - wall0}
     if spec.keep_series:
         out["series"] = {"t": an.time.values, "pose": pose, "pos": pos}
     return out
