@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+OUT = HERE  # where results.json and the figures go (--out)
 sys.path.insert(0, str(HERE.parent))
 
 import common  # noqa: E402
@@ -154,7 +155,12 @@ def decay_measures(t, x):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="shortened irregular sea (CI)")
+    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
+                    "this script)")
     a = ap.parse_args(argv)
+    global OUT
+    OUT = a.out or HERE
+    OUT.mkdir(parents=True, exist_ok=True)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     started = time.perf_counter()
     ds = coefficients()
@@ -233,7 +239,7 @@ def main(argv=None) -> int:
     res["checks"] = chk.items
     res["comparisons"] = chk.comparisons
     res["passed"] = chk.passed
-    out = common.write_results(HERE / "results.json", res, quick=a.quick, started=started)
+    out = common.write_results(OUT / "results.json", res, quick=a.quick, started=started)
     paths = figures(heave, surge, pitch, pitch_free, reg, irr, a.quick)
     print(f"FPS ({out['mode']}, {out['wall_time_s']} s): moored sink {1e3 * sink:.2f} mm (paper 5.3 mm)")
     for k, v in dec.items():
@@ -246,7 +252,7 @@ def main(argv=None) -> int:
         print(f"  published regular ({name}): mean {p['mean']} N, std {p['std']} N")
     print(chk.report())
     for p in paths:
-        print(f"  wrote {p.relative_to(HERE.parents[1])}")
+        print(f"  wrote {p}")
     return 0 if chk.passed else 1
 
 
@@ -274,7 +280,7 @@ def figures(heave, surge, pitch, pitch_free, reg, irr, quick) -> list[Path]:
         ax.set_title(title, fontsize=9)
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    paths.append(HERE / "fps_decays.png")
+    paths.append(OUT / "fps_decays.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
 
@@ -298,7 +304,7 @@ def figures(heave, surge, pitch, pitch_free, reg, irr, quick) -> list[Path]:
     ax2.legend(fontsize=7)
     ax2.grid(alpha=0.3)
     fig.tight_layout()
-    paths.append(HERE / "fps_regular.png")
+    paths.append(OUT / "fps_regular.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
 
@@ -322,7 +328,7 @@ def figures(heave, surge, pitch, pitch_free, reg, irr, quick) -> list[Path]:
     fig.suptitle(f"JONSWAP Hs {1e3 * HS:g} mm, Tp {TP} s: spectra after the ramp ({irr['t'][-1]:.0f} s record)",
                  fontsize=10)
     fig.tight_layout()
-    paths.append(HERE / "fps_irregular_spectra.png")
+    paths.append(OUT / "fps_irregular_spectra.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
     return paths

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+OUT = HERE  # where results.json and the figures go (--out)
 sys.path.insert(0, str(HERE.parent))
 
 import common  # noqa: E402
@@ -160,7 +161,7 @@ def figures(irr: dict, reg: dict, fd: dict, fds: dict, quick: bool) -> list[Path
     axes[-1].set_xlabel("time [s]")
     axes[0].set_title(f"RM3 in a JONSWAP sea Hs {HS} m, Tp {TP} s (grey: ramp)")
     fig.tight_layout()
-    paths.append(HERE / "rm3_irregular.png")
+    paths.append(OUT / "rm3_irregular.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
 
@@ -179,7 +180,7 @@ def figures(irr: dict, reg: dict, fd: dict, fds: dict, quick: bool) -> list[Path
     axes[0].legend()
     fig.suptitle("spectra after the ramp (Welch, Hann)")
     fig.tight_layout()
-    paths.append(HERE / "rm3_spectra.png")
+    paths.append(OUT / "rm3_spectra.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
 
@@ -199,7 +200,7 @@ def figures(irr: dict, reg: dict, fd: dict, fds: dict, quick: bool) -> list[Path
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
-    paths.append(HERE / "rm3_regular.png")
+    paths.append(OUT / "rm3_regular.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
     return paths
@@ -208,7 +209,12 @@ def figures(irr: dict, reg: dict, fd: dict, fds: dict, quick: bool) -> list[Path
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="200 s records (CI)")
+    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
+                    "this script)")
     a = ap.parse_args(argv)
+    global OUT
+    OUT = a.out or HERE
+    OUT.mkdir(parents=True, exist_ok=True)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     started = time.perf_counter()
     stem, deck = rm3_data()
@@ -300,7 +306,7 @@ def main(argv=None) -> int:
                              for k, c in d.items()},
         "checks": chk.items, "comparisons": chk.comparisons, "passed": chk.passed,
     }
-    out = common.write_results(HERE / "results.json", results, quick=a.quick, started=started)
+    out = common.write_results(OUT / "results.json", results, quick=a.quick, started=started)
     paths = figures(irr, reg, fd, fds, a.quick)
     print(f"RM3 ({out['mode']}, {out['wall_time_s']} s): spar sinks {sink:.3f} m under the moorings")
     for k in ("moored", "free"):
@@ -316,7 +322,7 @@ def main(argv=None) -> int:
     print(f"  regular, frequency domain: relative amplitude {fd['relative']:.3f} m, power {fd['power'] / 1e3:.1f} kW")
     print(chk.report())
     for p in paths:
-        print(f"  wrote {p.relative_to(HERE.parents[1])}")
+        print(f"  wrote {p}")
     return 0 if chk.passed else 1
 
 

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+OUT = HERE  # where results.json and the figures go (--out)
 sys.path.insert(0, str(HERE.parent))
 
 import common  # noqa: E402
@@ -157,7 +158,12 @@ def cable_series(r, lines) -> dict:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="120 s records (CI)")
+    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
+                    "this script)")
     a = ap.parse_args(argv)
+    global OUT
+    OUT = a.out or HERE
+    OUT.mkdir(parents=True, exist_ok=True)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     started = time.perf_counter()
     stem, deck = rm3.rm3_data()
@@ -225,7 +231,7 @@ def main(argv=None) -> int:
     buoy = (s > 57.0) & (s < 82.0)
     res["lowest_buoyancy_hump_z_m"] = float(z_hump[buoy].max())
     res["checks"], res["comparisons"], res["passed"] = chk.items, chk.comparisons, chk.passed
-    out = common.write_results(HERE / "results.json", res, quick=a.quick, started=started)
+    out = common.write_results(OUT / "results.json", res, quick=a.quick, started=started)
     paths = figures(cab_c, cab_o, sel)
     print(f"RM3 umbilical ({out['mode']}, {out['wall_time_s']} s): top tension mean "
           f"{res['top_tension_mean_n'] / 1e3:.1f} kN, "
@@ -233,7 +239,7 @@ def main(argv=None) -> int:
           f"largest curvature {res['max_curvature_per_m']:.3f} 1/m at s = {res['max_curvature_s_m']:.1f} m")
     print(chk.report())
     for p in paths:
-        print(f"  wrote {p.relative_to(HERE.parents[1])}")
+        print(f"  wrote {p}")
     return 0 if chk.passed else 1
 
 
@@ -266,7 +272,7 @@ def figures(cab_c, cab_o, sel) -> list[Path]:
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    paths.append(HERE / "umbilical_profiles.png")
+    paths.append(OUT / "umbilical_profiles.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
 
@@ -278,7 +284,7 @@ def figures(cab_c, cab_o, sel) -> list[Path]:
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    paths.append(HERE / "umbilical_top_tension.png")
+    paths.append(OUT / "umbilical_top_tension.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
     return paths

@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+OUT = HERE  # where results.json and the figures go (--out)
 sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE))
 
@@ -59,7 +60,7 @@ class _Bar:
         print(f"    {self.n}/{self.total} cases, {time.perf_counter() - self.t0:.0f} s", flush=True)
 
 
-CACHE = HERE / "out" / "cases"  # finished cases (ignored by git): an interrupted run resumes
+CACHE = HERE / "out" / "cases"  # finished cases (git ignores out/): an interrupted run resumes
 
 
 def case_key(spec) -> str:
@@ -155,7 +156,13 @@ def main(argv=None) -> int:
     ap.add_argument("--no-sweep", action="store_true", help="skip the parametric sweep (full mode)")
     ap.add_argument("--hs-min", type=float, default=0.0,
                     help="leave out the cells below this Hs [m] (their damage then counts as zero; say so)")
+    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
+                    "this script)")
     a = ap.parse_args(argv)
+    global OUT, CACHE
+    OUT = a.out or HERE
+    CACHE = OUT / "out" / "cases"
+    OUT.mkdir(parents=True, exist_ok=True)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     started = time.perf_counter()
     scatter = ScatterDiagram.from_csv(common.shared_file("w4p_scatter.csv"))
@@ -247,7 +254,7 @@ def main(argv=None) -> int:
     res["case_time_s"] = {"total_wall": t_cases, "sum_of_cases": float(sum(o["wall_time_s"] for o in outs + sw))}
     res["hs_min_m"] = a.hs_min
     res["checks"], res["comparisons"], res["passed"] = chk.items, chk.comparisons, chk.passed
-    out = common.write_results(HERE / "results.json", res, quick=a.quick, started=started)
+    out = common.write_results(OUT / "results.json", res, quick=a.quick, started=started)
     paths = figures(per, index, outs, res, a.quick)
     print(f"W4P cable ({out['mode']}, {out['wall_time_s']} s): hull float radius {dims['float_radius']:.2f} m, float "
           f"draft {dims['float_draft']:.2f} m, tube radius {dims['tube_radius']:.2f} m")
@@ -258,7 +265,7 @@ def main(argv=None) -> int:
     print(f"  closest approach of the cable to the hull {clearance:.2f} m ({worst.get('label')})")
     print(chk.report())
     for p in paths:
-        print(f"  wrote {p.relative_to(HERE.parents[1])}")
+        print(f"  wrote {p}")
     return 0 if chk.passed else 1
 
 
@@ -289,7 +296,7 @@ def figures(per, index, outs, res, quick) -> list[Path]:
     ax1.set_title("curvature envelopes (grey: excluded end elements)", fontsize=9)
     ax2.set_title("annual fatigue damage" + (" (single condition only)" if quick else ""), fontsize=9)
     fig.tight_layout()
-    paths.append(HERE / "w4p_envelopes_damage.png")
+    paths.append(OUT / "w4p_envelopes_damage.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
 
@@ -306,7 +313,7 @@ def figures(per, index, outs, res, quick) -> list[Path]:
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
-    paths.append(HERE / "w4p_single_condition.png")
+    paths.append(OUT / "w4p_single_condition.png")
     fig.savefig(paths[-1], dpi=90)
     plt.close(fig)
 
@@ -322,7 +329,7 @@ def figures(per, index, outs, res, quick) -> list[Path]:
         axes[0].set_ylabel("single-condition life [years]")
         fig.suptitle("parametric sweep (18 designs) in the single condition", fontsize=10)
         fig.tight_layout()
-        paths.append(HERE / "w4p_sweep.png")
+        paths.append(OUT / "w4p_sweep.png")
         fig.savefig(paths[-1], dpi=90)
         plt.close(fig)
     return paths
