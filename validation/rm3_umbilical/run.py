@@ -54,7 +54,7 @@ SECTIONS = {  # name: (length [m], diameter [m], mass [kg/m], EI [N m^2])
     "cable_lower": (55.0, 0.176, 77.3, 11.71e3),
 }
 EA, CDN, CAN = 751.0e6, 1.2, 1.0
-HS, TP, GAMMA, SEED, N_COMPONENTS = 8.25, 14.5, 3.3, 3, 100
+HS, TP, GAMMA, SEED, N_COMPONENTS = 8.25, 14.5, 3.3, 3, 40
 RAMP = 30.0
 DTM = 0.05
 DT_OUT = 0.2

@@ -256,6 +256,14 @@ def run_case(spec: CaseSpec) -> dict:
     for k in range(pose.shape[0]):
         body_pos[k] = rel[k] @ _rotation(pose[k, 3:])  # R^T applied to each row
     clear = hull_clearance(body_pos, spec.dims)
+    # periodicity of the analysed record: the largest change of a node position over one period,
+    # relative to the largest range of a node position over the window
+    if periodic:
+        spp = int(round(spec.T / dt_out))
+        drift = float(np.abs(pos[spp:] - pos[:-spp]).max()) if pos.shape[0] > spp else float("nan")
+        periodicity = drift / max(float(np.ptp(pos, axis=0).max()), 1e-12)
+    else:
+        periodicity = float("nan")
     keep = np.arange(nodes.size)
     keep = keep[(keep >= EXCLUDE_ELEMENTS) & (keep <= nodes.size - 1 - EXCLUDE_ELEMENTS)]
     out = {"label": spec.label, "H": spec.H, "T": spec.T, "design": spec.design, "s": np.asarray(s_arc, float),
@@ -266,7 +274,7 @@ def run_case(spec: CaseSpec) -> dict:
                axis=0))]), "heave_range": float(np.ptp(pose[:, 2])), "surge_range": float(np.ptp(pose[:, 0])),
            "surge_mean": float(np.mean(pose[:, 0])), "pitch_range": float(np.ptp(pose[:, 4])),
            "z_mean": float(np.mean(pose[:, 2])),
-           "cable_z_min": float(pos[:, :, 2].min()), "ic": dict(s.ic_report),
+           "cable_z_min": float(pos[:, :, 2].min()), "periodicity": periodicity, "ic": dict(s.ic_report),
            "wall_time_s": time.perf_counter() - wall0}
     if spec.keep_series:
         out["series"] = {"t": an.time.values, "pose": pose, "pos": pos}
