@@ -73,7 +73,9 @@ def _load(args):
             model.env.current = parse_current(args.current)
     except ValueError as e:  # a bad --waves / --current value: bad input, exit code 2
         raise DeckError(str(e)) from None
-    kwargs = {k: v for k, v in run.items() if k in ("dtM", "scheme")}
+    kwargs = {k: v for k, v in run.items() if k in ("dtM", "scheme", "mooring")}
+    if getattr(args, "mooring", None):
+        kwargs["mooring"] = args.mooring
     if getattr(args, "dtM", None):
         kwargs["dtM"] = args.dtM
     if getattr(args, "scheme", None):
@@ -420,6 +422,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--waves", help="a sea instead of the deck's WaveKin: jonswap:Hs=3.5,Tp=7.5[,gamma=3.3]"
                    "[,heading=180][,seed=1][,n=200][,ramp=20], pm:Hs=..,Tp=.. or regular:H=2,T=8[,heading=..]")
     p.add_argument("--current", help="a uniform current instead of the deck's Currents: SPEED@HEADING, e.g. 1.0@180")
+    p.add_argument("--mooring", choices=("dynamic", "quasistatic"),
+                   help="lines as dynamic lumped masses (default) or quasi-static catenaries re-solved every step "
+                   "(floating bodies only)")
     p.add_argument("--no-ic", action="store_true", help="start from the catenary profile (no IC solve)")
     p.add_argument("--no-nodes", action="store_true", help="keep node data out of the NetCDF file")
     p.add_argument("--quiet-progress", action="store_true", help="no progress bar (default: shown on a terminal)")

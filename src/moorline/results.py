@@ -86,8 +86,9 @@ class Recorder:
             d["node_bending_moment"].append(_cat([ln.node_bending_moments() for ln in s.lines]))
         d["segment_tension"].append(np.linalg.norm(w.T + w.Td, axis=1))
         d["segment_strain"].append(w.seg_len / s.layout.lines.seg_l0 - 1.0)
-        d["line_tension_a"].append([ln.anchor_tension() for ln in s.lines])
-        d["line_tension_b"].append([ln.fairlead_tension() for ln in s.lines])
+        T = s.line_end_tensions()  # the quasi-static lines' in the quasi-static mode
+        d["line_tension_a"].append(T[:, 0])
+        d["line_tension_b"].append(T[:, 1])
         d["point_position"].append(w.pr.copy())
         d["point_velocity"].append(w.pv.copy())
         d["point_force"].append(w.pF.copy())
@@ -170,7 +171,7 @@ class Recorder:
         coords = {
             "time": ("time", np.asarray(self.t), {"units": "s"}),
             "xyz": ("xyz", ["x", "y", "z"]),
-            "line": ("line", np.arange(1, nl + 1)),
+            "line": ("line", np.arange(1, (d["line_tension_b"].shape[1] if "line_tension_b" in d else nl) + 1)),
             "point": ("point", np.arange(1, len(s.points) + 1)),
             "node_line": ("node", node_line),
             "node_index": ("node", node_index),
@@ -178,7 +179,7 @@ class Recorder:
             "segment_line": ("segment", seg_line),
             "segment_index": ("segment", seg_index),
             "segment_s": ("segment", seg_s, {"units": "m"}),
-            "line_type": ("line", np.array(lay.line_type_names, dtype=str)),
+            "line_type": ("line", np.array([ln.line_type for ln in s.full_model.lines], dtype=str)),
             "point_kind": ("point", np.array([p.kind.name.lower() for p in s.model.points], dtype=str)),
         }
         if s.n_coupled_dof:

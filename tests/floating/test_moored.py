@@ -9,56 +9,13 @@ import numpy as np
 import pytest
 
 import moorline
-from moorline import hydro
-from moorline.model import Model
 from moorline.model.water import Waves
 
+from .conftest import SPAR_MASS as MASS
+from .conftest import SPAR_RCG as RCG
+from .conftest import spar_model
+
 pytest.importorskip("capytaine")
-
-DEPTH = 320.0
-MASS = 8.066e6  # platform with a rigid turbine [kg]
-RCG = (0.0, 0.0, -78.0)
-INERTIA = (6.0e9, 6.0e9, 1.6e8)
-YAW_SPRING = 98.34e6  # the OC3 delta connection's yaw stiffness [N m/rad]
-
-
-def _profile():
-    """Meridian of the OC3 hull: 9.4 m diameter to 120 m draft, tapering between 12 m and 4 m below
-    the surface to 6.5 m; panels of about 4 m along it."""
-    pts = [(0.0, -120.0)]
-    for a, b, n in (((0.0, -120.0), (4.7, -120.0), 3), ((4.7, -120.0), (4.7, -12.0), 27),
-                    ((4.7, -12.0), (3.25, -4.0), 4), ((3.25, -4.0), (3.25, 0.0), 2)):
-        for s in np.linspace(0.0, 1.0, n + 1)[1:]:
-            pts.append((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])))
-    return np.array(pts)
-
-
-@pytest.fixture(scope="module")
-def spar(tmp_path_factory):
-    return hydro.compute_coefficients(hydro.mesh_axisymmetric(_profile(), n_theta=24),
-                                      omega=np.linspace(0.05, 3.0, 40), rho=1025.0, g=9.80665, water_depth=DEPTH,
-                                      rotation_center=[0.0, 0.0, 0.0], cache_dir=tmp_path_factory.mktemp("hydro"))
-
-
-def spar_model(ds, scheme="GenAlpha", dtM=0.1, waves=None, **floating) -> Model:
-    m = Model()
-    m.env.depth = DEPTH
-    m.options.tScheme = scheme
-    m.options.dtM = dtM
-    m.add_line_type("chain", d=0.09, w=77.7066, EA=384.243e6, BA=-0.8, Cd=1.6, Ca=1.0, CdAx=0.1, CaAx=0.0)
-    b = m.add_body("free", (0.0, 0.0, 0.0), m=MASS, rCG=RCG, I=INERTIA)
-    for k in range(3):
-        a = np.radians(180.0 + 120.0 * k)
-        fl = m.add_point("body", (5.2 * np.cos(a), 5.2 * np.sin(a), -70.0), body=b)
-        an = m.add_point("fixed", (853.87 * np.cos(a), 853.87 * np.sin(a), -DEPTH))
-        m.add_line("chain", an, fl, L=902.2, N=20)
-    m.add_hydro([b], ds)
-    floating.setdefault("stiffness", [0, 0, 0, 0, 0, YAW_SPRING])
-    m.add_floating(b, **floating)
-    m.env.waves = waves
-    m.env.waves_on_lines = False
-    return m
-
 
 def _mooring_load(s):
     """Force and moment of the three lines on the body about its reference point [N, N m]."""

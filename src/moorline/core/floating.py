@@ -36,6 +36,7 @@ import math
 from numba import njit
 
 from .layout import (
+    CTL_QS_MOORING,
     CTL_RADIATION,
     EXC_OFF,
     EXC_SUM,
@@ -43,6 +44,7 @@ from .layout import (
     FC_EXCITATION,
     FC_EXTRA,
     FC_HYDROSTATIC,
+    FC_MOORING,
     FC_MORISON,
     FC_PTO,
     FC_RADIATION,
@@ -50,7 +52,7 @@ from .layout import (
     RAD_CONVOLUTION,
     RAD_STATE_SPACE,
 )
-from .numerics import quat_to_R, solve_dense
+from .numerics import lu_factor, lu_solve, quat_mul, quat_to_R, solve_dense
 from .waterkin import _ramp, fluid_at
 
 
@@ -67,23 +69,6 @@ def rel_angles(Rm, R0, out, o):
     out[o + 1] = math.asin(max(-1.0, min(1.0, r02)))
     out[o] = math.atan2(-r12, r22)
     out[o + 2] = math.atan2(-r01, r00)
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _quat_mul(a, oa, b, ob, out, oo):
-    """out[oo:oo+4] = a[oa:oa+4] (x) b[ob:ob+4] (w, x, y, z)."""
-    aw = a[oa]
-    ax = a[oa + 1]
-    ay = a[oa + 2]
-    az = a[oa + 3]
-    bw = b[ob]
-    bx = b[ob + 1]
-    by = b[ob + 2]
-    bz = b[ob + 3]
-    out[oo] = aw * bw - ax * bx - ay * by - az * bz
-    out[oo + 1] = aw * bx + ax * bw + ay * bz - az * by
-    out[oo + 2] = aw * by - ax * bz + ay * bw + az * bx
-    out[oo + 3] = aw * bz + ax * by - ay * bx + az * bw
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -302,6 +287,20 @@ def floating_loads(t, y, dy, R, E, W, F, FW):
             pf[3] -= fp * (dy_ * ez - dz * ey)
             pf[4] -= fp * (dz * ex - dx * ez)
             pf[5] -= fp * (dx * ey - dy_ * ex)
+    # the quasi-static mooring, linearised about the pose of the step's start
+    if F.ctl[CTL_QS_MOORING] == 1:
+        pose = FW.qpose
+        for f in range(nf):
+            i = F.body[f]
+            for c in range(3):
+                pose[6 * f + c] = W.br[i, c]
+            rel_angles(W.bR[i], FW.eye3, pose, 6 * f + 3)
+        nd = 6 * nf
+        for a in range(nd):
+            s = F.ql_F[a]
+            for b in range(nd):
+                s -= F.ql_K[a, b] * (pose[b] - F.ql_x0[b])
+            comp[a // 6, FC_MOORING, a % 6] = s
     # into the bodies' loads and mass matrices
     for f in range(nf):
         i = F.body[f]
@@ -332,6 +331,17 @@ def _joint_axis(F, W, jn):
     return ex, ey, ez, W.br[ci, 0] - W.br[pi, 0], W.br[ci, 1] - W.br[pi, 1], W.br[ci, 2] - W.br[pi, 2]
 
 
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def _relative_velocity(W, ci, pi, dx, dy, dz):
+    """Velocity of body ``ci``'s reference point relative to the point of body ``pi`` it is at,
+    d = (dx, dy, dz) from ``pi``'s reference point: v_c - v_p - omega_p x d."""
+    wx = W.bw[pi, 0]
+    wy = W.bw[pi, 1]
+    wz = W.bw[pi, 2]
+    return (W.bv[ci, 0] - W.bv[pi, 0] - (wy * dz - wz * dy), W.bv[ci, 1] - W.bv[pi, 1] - (wz * dx - wx * dz),
+            W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx))
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def joint_state(F, FW, W, jn):
     """Slide s [m] and its rate [m/s] of joint ``jn`` from the body kinematics in W, into
@@ -348,12 +358,7 @@ def joint_state(F, FW, W, jn):
     else:
         pi = F.body[p]
         s = ex * dx + ey * dy + ez * dz - (a[0] * d0[0] + a[1] * d0[1] + a[2] * d0[2])
-        wx = W.bw[pi, 0]
-        wy = W.bw[pi, 1]
-        wz = W.bw[pi, 2]
-        rvx = W.bv[ci, 0] - W.bv[pi, 0] - (wy * dz - wz * dy)
-        rvy = W.bv[ci, 1] - W.bv[pi, 1] - (wz * dx - wx * dz)
-        rvz = W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx)
+        rvx, rvy, rvz = _relative_velocity(W, ci, pi, dx, dy, dz)
         sd = ex * rvx + ey * rvy + ez * rvz
     FW.jt[jn, 0] = s
     FW.jt[jn, 1] = sd
@@ -544,9 +549,7 @@ def _joint_violation(F, FW, W, jn, out):
         wx = W.bw[pi, 0]
         wy = W.bw[pi, 1]
         wz = W.bw[pi, 2]
-        vx = W.bv[ci, 0] - W.bv[pi, 0] - (wy * dz - wz * dy)
-        vy = W.bv[ci, 1] - W.bv[pi, 1] - (wz * dx - wx * dz)
-        vz = W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx)
+        vx, vy, vz = _relative_velocity(W, ci, pi, dx, dy, dz)
         for i in range(3):
             for j in range(3):
                 Rt[i, j] = Rp[i, 0] * Rq[0, j] + Rp[i, 1] * Rq[1, j] + Rp[i, 2] * Rq[2, j]
@@ -578,31 +581,13 @@ def _joint_violation(F, FW, W, jn, out):
 # ------------------------------------------------------------------------------------ implicit scheme
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _factor_pair(F, fw, p, h):
-    """LU factors (partial pivoting) of I - h/2 A of state-space pair ``p`` into fw.lu."""
+    """LU factors of I - h/2 A of state-space pair ``p`` into fw.lu (rows of the pair)."""
     p0 = F.ss_ptr[p]
     n = F.ss_ptr[p + 1] - p0
-    lu = fw.lu
-    piv = fw.lu_piv
     for r in range(n):
         for c in range(n):
-            lu[p0 + r, c] = (1.0 if r == c else 0.0) - 0.5 * h * F.ss_A[p0 + r, c]
-    for c in range(n):
-        q = c
-        big = abs(lu[p0 + c, c])
-        for r in range(c + 1, n):
-            if abs(lu[p0 + r, c]) > big:
-                big = abs(lu[p0 + r, c])
-                q = r
-        piv[p0 + c] = q
-        if q != c:
-            for k in range(n):
-                tmp = lu[p0 + c, k]
-                lu[p0 + c, k] = lu[p0 + q, k]
-                lu[p0 + q, k] = tmp
-        for r in range(c + 1, n):
-            lu[p0 + r, c] /= lu[p0 + c, c]
-            for k in range(c + 1, n):
-                lu[p0 + r, k] -= lu[p0 + r, c] * lu[p0 + c, k]
+            fw.lu[p0 + r, c] = (1.0 if r == c else 0.0) - 0.5 * h * F.ss_A[p0 + r, c]
+    lu_factor(fw.lu, p0, n, fw.lu_piv)
     fw.lu_h[p] = h
 
 
@@ -628,20 +613,7 @@ def radiation_trapezoid(y0, y1, h, R, F, FW):
             for c in range(n):
                 s += 0.5 * h * F.ss_A[p0 + r, c] * y0[zoff + p0 + c]
             b[r] = s
-        # forward and back substitution with the row swaps of the factorisation
-        for c in range(n):
-            q = fw.lu_piv[p0 + c]
-            if q != c:
-                tmp = b[c]
-                b[c] = b[q]
-                b[q] = tmp
-            for r in range(c + 1, n):
-                b[r] -= fw.lu[p0 + r, c] * b[c]
-        for r in range(n - 1, -1, -1):
-            s = b[r]
-            for c in range(r + 1, n):
-                s -= fw.lu[p0 + r, c] * b[c]
-            b[r] = s / fw.lu[p0 + r, r]
+        lu_solve(fw.lu, p0, n, fw.lu_piv, b)
         for r in range(n):
             y1[zoff + p0 + r] = b[r]
 
@@ -701,7 +673,7 @@ def _project_joints(y, R, W, F, FW):
         y[cq] = y[pq] + dx
         y[cq + 1] = y[pq + 1] + dy
         y[cq + 2] = y[pq + 2] + dz
-        _quat_mul(y, pq + 3, F.jt_q[jn], 0, y, cq + 3)
+        quat_mul(y[pq + 3], y[pq + 4], y[pq + 5], y[pq + 6], F.jt_q[jn], 0, y, cq + 3)
         y[cu] = y[pu] + wy * dz - wz * dy + sd * ex
         y[cu + 1] = y[pu + 1] + wz * dx - wx * dz + sd * ey
         y[cu + 2] = y[pu + 2] + wx * dy - wy * dx + sd * ez

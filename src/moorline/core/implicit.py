@@ -125,32 +125,50 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
     col_units = np.argsort(colour, kind="stable").astype(np.int64)
     col_ptr = np.zeros(nc + 1, dtype=np.int64)
     col_ptr[1:] = np.cumsum(np.bincount(colour, minlength=nc))
-    # banded order of the DOFs: reverse Cuthill-McKee, unless the natural order is narrower
+    # the solver's order: bodies (hubs that couple every line they carry) form a border of the last
+    # DOFs, solved by their Schur complement; the rest is banded, in reverse Cuthill-McKee order unless
+    # the natural order is narrower
+    border_units = sorted(n3 + int(j) for j in layout.rigid.body_blk if j >= 0)
+    is_border = np.zeros(nu, dtype=bool)
+    is_border[border_units] = True
+    lead_dofs = np.array([udof[u] + a for u in range(nu) if not is_border[u] for a in range(ncomp[u])],
+                         dtype=np.int64)
+    border_dofs = np.array([udof[u] + a for u in border_units for a in range(ncomp[u])], dtype=np.int64)
+    nl = lead_dofs.size
+    local = -np.ones(ndof, dtype=np.int64)
+    local[lead_dofs] = np.arange(nl)
     rows, cols = [], []
     for u in range(nu):
+        if is_border[u]:
+            continue
         for v in adj[u]:
+            if is_border[v]:
+                continue
             for a in range(ncomp[u]):
                 for b in range(ncomp[v]):
-                    rows.append(udof[u] + a)
-                    cols.append(udof[v] + b)
+                    rows.append(local[udof[u] + a])
+                    cols.append(local[udof[v] + b])
     rows = np.array(rows, dtype=np.int64)
     cols = np.array(cols, dtype=np.int64)
 
-    def width(pinv):
-        d = pinv[rows] - pinv[cols] if rows.size else np.zeros(1, dtype=np.int64)
+    def width(pos):
+        d = pos[rows] - pos[cols] if rows.size else np.zeros(1, dtype=np.int64)
         return int(max(d.max(), 0)), int(max(-d.min(), 0))
 
-    natural = np.arange(ndof, dtype=np.int64)
-    best = (natural, natural)
-    kl, ku = width(natural)
-    if ndof:
-        g = coo_matrix((np.ones(rows.size), (rows, cols)), shape=(ndof, ndof)).tocsr()
-        perm = np.asarray(reverse_cuthill_mckee(g, symmetric_mode=True), dtype=np.int64)
-        pinv = np.empty(ndof, dtype=np.int64)
-        pinv[perm] = np.arange(ndof)
-        kl2, ku2 = width(pinv)
+    order = np.arange(nl, dtype=np.int64)  # leading DOFs (local numbers) in solver order
+    kl, ku = width(order)
+    if nl:
+        g = coo_matrix((np.ones(rows.size), (rows, cols)), shape=(nl, nl)).tocsr()
+        rcm = np.asarray(reverse_cuthill_mckee(g, symmetric_mode=True), dtype=np.int64)
+        pos = np.empty(nl, dtype=np.int64)
+        pos[rcm] = np.arange(nl)
+        kl2, ku2 = width(pos)
         if kl2 + ku2 < kl + ku:
-            best, kl, ku = (perm, pinv), kl2, ku2
+            order, kl, ku = rcm, kl2, ku2
+    perm = np.concatenate([lead_dofs[order], border_dofs]).astype(np.int64)
+    pinv = np.empty(ndof, dtype=np.int64)
+    pinv[perm] = np.arange(ndof)
+    best = (perm, pinv)
     am, af, beta, gamma = gen_alpha_parameters(rho)
     par = np.array([am, af, beta, gamma, atol_x, atol_v, float(max_iter), rho, 1.0, contact_tol, THETA_MAX,
                     SLOW_ITER, GROWTH, PREDICTOR])
@@ -165,20 +183,22 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
                 cn_dof.append(3 * int(L.node_row[n]))
                 cn_area.append(float(L.d[li]) * 0.5 * float(L.seg_l0[s0 + i - 1] + L.seg_l0[s0 + i]))
     return ImplicitArrays(udof, ncomp, adj_ptr, adj_idx, col_ptr, col_units, best[1], best[0],
-                          np.array([kl, ku], dtype=np.int64), par, np.array(cn_node, dtype=np.int64),
+                          np.array([kl, ku, border_dofs.size], dtype=np.int64), par, np.array(cn_node, dtype=np.int64),
                           np.array(cn_dof, dtype=np.int64), np.array(cn_area, dtype=float))
 
 
 def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> ImplicitWork:
     ndof = A.udof.size and int(A.udof[-1] + A.ncomp[-1])
     n = layout.n_state
-    kl, ku = int(A.band[0]), int(A.band[1])
+    kl, ku, nb = int(A.band[0]), int(A.band[1]), int(A.band[2])
+    nl = ndof - nb
     z = np.zeros
     stat = z(N_STAT)
     stat[S_H] = dtM
     return ImplicitWork(z(ndof), z(ndof), z(ndof), z(ndof), z(ndof), z(n), z(ndof), z((3, layout.n_coupled_dof)),
-                        z(n), z(n), z((2 * kl + ku + 1, max(ndof, 1))), np.zeros(max(ndof, 1), dtype=np.int64),
-                        stat, z((2 * kl + ku + 1, max(ndof, 1))), z(ndof), z((3, A.cn_node.size, 8)))
+                        z(n), z(n), z((2 * kl + ku + 1, max(nl, 1))), np.zeros(max(nl, 1), dtype=np.int64),
+                        stat, z((2 * kl + ku + 1, max(nl, 1))), z(ndof), z((3, A.cn_node.size, 8)), z((nb, nl)),
+                        z((nb, nl)), z((nb, nb)), z((nb, nl)), z((nb, nb)), np.zeros(nb, dtype=np.int64))
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

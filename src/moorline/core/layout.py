@@ -243,11 +243,13 @@ FC_DAMPING = 3  # extra linear and quadratic damping
 FC_MORISON = 4
 FC_PTO = 5
 FC_EXTRA = 6  # extra stiffness and constant load
-N_FC = 7
-FC_NAMES = ("excitation", "radiation", "hydrostatic", "damping", "morison", "pto", "extra")
+FC_MOORING = 7  # quasi-static mooring (linearised over a step), in the quasi-static mode only
+N_FC = 8
+FC_NAMES = ("excitation", "radiation", "hydrostatic", "damping", "morison", "pto", "extra", "quasistatic_mooring")
 
 # FloatArrays.ctl
 CTL_RADIATION = 0  # 0: state space, 1: convolution
+CTL_QS_MOORING = 1  # 1: the quasi-static mooring load ql_F - ql_K (pose - ql_x0) acts
 RAD_STATE_SPACE = 0
 RAD_CONVOLUTION = 1
 # ExcitationArrays.ctl[0]
@@ -298,8 +300,11 @@ class FloatArrays(NamedTuple):
     ms_d: np.ndarray  # (ns,)
     ms_Cd: np.ndarray  # (ns,)
     ms_n: np.ndarray  # int64 (ns,)
+    ql_F: np.ndarray  # (6 nf,): quasi-static mooring load at the pose ql_x0 [N, N m]
+    ql_K: np.ndarray  # (6 nf, 6 nf): its stiffness with respect to the pose (Euler angles) [N/m, N/rad, ...]
+    ql_x0: np.ndarray  # (6 nf,): the pose it was linearised about (x, y, z, roll, pitch, yaw, Rx Ry Rz)
     par: np.ndarray  # (2,): impulse-response sampling interval [s], joint pull-back rate [1/s]
-    ctl: np.ndarray  # int64 (1,): radiation method
+    ctl: np.ndarray  # int64 (2,): radiation method, quasi-static mooring on (1) or off (0)
 
 
 class ExcitationArrays(NamedTuple):
@@ -340,6 +345,8 @@ class FloatWork(NamedTuple):
     hpar: np.ndarray  # (1,): time of the last step end recorded [s]
     vlast: np.ndarray  # (6 nf,): velocities at that time
     jerr: np.ndarray  # (12,): a joint's position/rotation and velocity errors
+    qpose: np.ndarray  # (6 nf,): the poses of the floating bodies (quasi-static mooring)
+    eye3: np.ndarray  # (3, 3) identity
 
 
 def empty_float_arrays(n_bodies: int) -> FloatArrays:
@@ -350,7 +357,7 @@ def empty_float_arrays(n_bodies: int) -> FloatArrays:
                        z((0, 6, 6)), z((0, 6)), z((0, 3)), z((0, 3, 3)), z((0, 6, 6)), z((0, 6, 6)), z((0, 6, 6)),
                        z((0, 6)), z((0, 0)), zi, zi, np.zeros(1, dtype=np.int64), z((0, 1)), z(0), z(0), z((0, 0, 0)),
                        zi, zi, zi, z((0, 3)), z((0, 3)), z((0, 4)), z(0), z(0), z(0), zi, z((0, 3)), z((0, 3)), z(0),
-                       z(0), zi, np.array([1.0, 0.0]), np.zeros(1, dtype=np.int64))
+                       z(0), zi, z(0), z((0, 0)), z(0), np.array([1.0, 0.0]), np.zeros(2, dtype=np.int64))
 
 
 def no_excitation(n_dof: int) -> ExcitationArrays:
@@ -370,7 +377,7 @@ def new_float_work(F: FloatArrays) -> FloatWork:
     return FloatWork(z((nf, N_FC, 6)), z((nf, 6)), z(nd), z((nd, nd)), z(nd), z((nd, nd)), z(nd), z((nd, nd)),
                      z((nd, nd)), z(nd), z(nd), z((max(nd, 1), nd + 1)), z((nj, 3)), z(8), z((2, 3, 3)),
                      z((nz, mo)), np.zeros(nz, dtype=np.int64), z(F.ss_i.size), z(mo), z((F.irf.shape[0], nd)),
-                     np.zeros(2, dtype=np.int64), z(1), z(nd), z(12))
+                     np.zeros(2, dtype=np.int64), z(1), z(nd), z(12), z(nd), np.eye(3))
 
 
 

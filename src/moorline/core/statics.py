@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from .integrate import advance
-from .jacobian import S_NJAC, S_NRHS, assemble, band_lu, displace, fd_steps, shift_colour, solve_increment
+from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
 from .rhs import rhs
 
 
@@ -193,7 +193,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
     uoff = 3 * n3 + 7 * n6
     nd = IW.a1.size
     fd_steps(IW, n3, n6, 1e-7, 1.0)
-    IW.AB[:, :] = 0.0
+    clear(IW)
     nc = A.col_ptr.size - 1
     kmax = 6 if n6 > 0 else 3
     dq = IW.da
@@ -212,7 +212,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
     IW.stat[S_NJAC] += 1
     for i in range(y.size):
         y[i] = IW.y0[i]
-    return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
+    return factor(A, IW)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

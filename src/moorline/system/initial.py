@@ -274,3 +274,29 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
     uoff = sys.layout.u_offset
     sys.y[uoff:] = 0.0
     return t
+
+
+def quasistatic_equilibrium(sys: System, *, tol: float = 1e-7, max_outer: int = 50) -> None:
+    """Equilibrium of the floating bodies on quasi-static lines: Newton statics of the bodies with
+    the lines' load linearised at their pose, re-linearised until the poses change by less than
+    ``tol`` [m, rad]. Fills ``sys.ic_report``."""
+    L, R, P, _, B, W, F, FW = sys._kernel_arrays()
+    E = sys.layout.env_ic
+    last = None
+    outer = 0
+    for outer in range(1, max_outer + 1):
+        sys._evaluate()
+        sys._qsm.update(sys)
+        if not newton_ic(sys, L, R, P, E, B, W, F, FW):
+            break
+        sys._evaluate()
+        poses = np.concatenate([b.pose() for b in sys.bodies])
+        if last is not None and np.max(np.abs(poses - last)) < tol:
+            sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer)
+            log.info("initial conditions: floating bodies in equilibrium on quasi-static lines after %d "
+                     "linearisations", outer)
+            return
+        last = poses
+    sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer, converged=False)
+    raise SimulationError("the floating bodies found no equilibrium on the quasi-static lines (Newton statics of "
+                          f"the linearised loads did not settle in {outer} linearisations)", time=0.0)

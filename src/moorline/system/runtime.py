@@ -45,7 +45,8 @@ from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
 from .floating import JOINT_PULL, floating_arrays
-from .initial import MAX_NODE_SPEED, catenary_start, solve_initial_conditions
+from .initial import MAX_NODE_SPEED, catenary_start, quasistatic_equilibrium, solve_initial_conditions
+from .qsmooring import QuasiStaticMooring
 from .views import BodyView, LineView, PointView, RodView
 
 log = logging.getLogger("moorline")
@@ -76,12 +77,23 @@ class System:
     _STAGE_FIELDS = ("T", "Td", "seg_len", "seg_ldot", "F", "Fhyd", "Fbed", "W", "kurv", "pF", "pa")
 
     def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None,
-                 loads_at: str = "end"):
+                 loads_at: str = "end", mooring: str = "dynamic", qs_interval: float | None = None,
+                 qs_friction=0.0):
         if loads_at not in ("end", "last_stage"):
             raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
+        if mooring not in ("dynamic", "quasistatic"):
+            raise ValueError(f"mooring must be 'dynamic' or 'quasistatic', got {mooring!r}")
         self.loads_at = loads_at
+        self.mooring = mooring
+        self.full_model = model
+        self._qsm = None
+        if mooring == "quasistatic":
+            self._qsm = QuasiStaticMooring(model, seabed_friction=qs_friction)
+            model = self._qsm.dynamic_model(model)
         self.model = model
         self.layout = build_layout(model, floating=floating_arrays(model))
+        if self._qsm is not None:
+            self.layout.fl.ctl[1] = 1
         self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
             scheme if scheme is not None else model.options.tScheme)
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
@@ -109,6 +121,8 @@ class System:
         self.initialized = False
         self._grid_warned = False
         self.ic_report: dict = {}
+        #: quasi-static mode: the lines are re-solved and re-linearised every qs_interval [s]
+        self.qs_interval = float(qs_interval) if qs_interval is not None else max(self.dtM, 0.02)
 
     @classmethod
     def from_file(cls, path, **kwargs) -> System:
@@ -223,7 +237,12 @@ class System:
                         CatenaryStatus(status).name.lower())
         self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
-        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
+        if self._qsm is not None:
+            self._evaluate()
+            self._qsm.update(self)
+            if solve_ic:
+                quasistatic_equilibrium(self)
+        elif solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
             solve_initial_conditions(self)
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
@@ -325,6 +344,22 @@ class System:
                 "colours": int(A.col_ptr.size - 1), "bandwidth": (int(A.band[0]), int(A.band[1]))}
 
     def _advance(self, motion: Motion, t_end: float) -> None:
+        if self._qsm is None:
+            self._advance_interval(motion, t_end)
+            return
+        # quasi-static lines: re-solved at the start of every interval, linearised over it
+        while t_end - self.t > 1e-9 * self.dtM:
+            self._qsm.update(self)
+            self._advance_interval(motion, min(t_end, self.t + self.qs_interval))
+
+    def line_end_tensions(self) -> np.ndarray:
+        """Tension at end A (anchor) and end B (fairlead) of every line [N], shape (n_lines, 2):
+        of the dynamic lines, or of the quasi-static ones at their last solve."""
+        if self._qsm is not None:
+            return self._qsm.tensions()
+        return np.array([[ln.anchor_tension(), ln.fairlead_tension()] for ln in self.lines]).reshape(-1, 2)
+
+    def _advance_interval(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
         L, R, P, E, B, W, F, FW = self._kernel_arrays()
         last_stage = self.loads_at == "last_stage"
