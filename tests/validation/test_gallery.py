@@ -2,8 +2,9 @@
 temporary folder, must exit 0 (all its own checks passed) and write a results.json with the
 headline numbers of issue 16 in SI units, finite and in physically sensible ranges.
 
-These are slow (a minute or two each on a 2-core machine) and need ../shared/data (the public RM3
-set and the W4P scatter diagram): skipped when it is absent.
+These are slow (minutes each on a shared 2-core machine). A study is skipped when what it needs
+is absent: ../shared/data (the RM3 studies: the public RM3 set; W4P: the scatter diagram) or
+Capytaine (fps and W4P compute their hull's coefficients).
 """
 
 from __future__ import annotations
@@ -23,9 +24,19 @@ SHARED = ROOT.parent / "shared" / "data"
 pytestmark = pytest.mark.slow
 
 
+#: what each study reads from ../shared/data, and whether it runs Capytaine
+NEEDS = {"fps": ((), True), "rm3": (("rm3/rm3.1", "rm3/rm3_moorings_moordyn.txt"), False),
+         "rm3_umbilical": (("rm3/rm3.1", "rm3/rm3_moorings_moordyn.txt"), False),
+         "w4p_cable": (("w4p_scatter.csv",), True)}
+
+
 def _run(study: str, tmp_path: Path, *extra: str) -> dict:
-    if not (SHARED / "rm3" / "rm3.1").exists() or not (SHARED / "w4p_scatter.csv").exists():
-        pytest.skip("../shared/data (the public RM3 set, the W4P scatter diagram) is not present")
+    files, bem = NEEDS[study]
+    missing = [f for f in files if not (SHARED / f).exists()]
+    if missing:
+        pytest.skip(f"../shared/data/{missing[0]} is not present (public reference data beside the repository)")
+    if bem:
+        pytest.importorskip("capytaine")
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT / "src") + os.pathsep + env.get("PYTHONPATH", "")
     env.setdefault("MPLBACKEND", "Agg")
