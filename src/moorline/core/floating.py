@@ -763,7 +763,7 @@ def floating_restart(t, y, R, W):
     if F.body.size == 0:
         return
     zoff = 6 * R.dims[0] + 13 * R.dims[1]
-    for i in range(zoff, y.size):
+    for i in range(zoff, zoff + R.dims[2]):  # the line states after them are not radiation memory
         y[i] = 0.0
     fw = W.fw
     if F.jt_child.size > 0:

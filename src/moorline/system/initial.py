@@ -20,6 +20,18 @@ import numpy as np
 from ..core.implicit import S_AVALID, S_H, S_HJ, advance_implicit, gen_alpha_parameters
 from ..core.integrate import Scheme
 from ..core.layout import ATT_POINT, ATT_ROD_A, P_BODY, P_COUPLED, P_FREE, Layout
+from ..core.linestates import (
+    MODE_RATE,
+    MODE_STATIC,
+    VIS_ELASTIC,
+    VIS_SYROPE,
+    XC_HIST,
+    XC_MODE,
+    XC_VIV,
+    end_line_states,
+    store_line_states,
+)
+from ..core.rhs import rhs
 from ..core.rigid import body_kinematics, body_point_kinematics, rod_kinematics, rod_nodes
 from ..core.seabed import resting_penetration, seabed_at
 from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
@@ -130,7 +142,35 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_
         for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
             row = int(L.node_row[n])
             y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
+        start_line_states(layout, li, out, y)
     return failed
+
+
+def start_line_states(layout: Layout, li: int, nodes: np.ndarray, y: np.ndarray) -> None:
+    """Line states of line ``li`` at the start (spec 6.1, MoorDyn's Line::initialize): the stretch
+    state of a viscoelastic segment is its whole stretch (no initial transient from an unstretched
+    static branch), that of a Syrope segment the working curve's slow strain at Tmean0 times its
+    length; VIV phases are spread over 0..2 pi along the line. ``nodes``: the line's node
+    positions, shape (N + 1, 3)."""
+    L = layout.lines
+    xo = layout.xs_offset
+    s0, s1 = int(L.seg_ptr[li]), int(L.seg_ptr[li + 1])
+    if L.vis[li] != VIS_ELASTIC:
+        ls = np.linalg.norm(np.diff(nodes, axis=0), axis=1)
+        for k, s in enumerate(range(s0, s1)):
+            x = int(L.seg_xs[s])
+            l0 = float(L.seg_l0[s])
+            if L.vis[li] == VIS_SYROPE:
+                wc = L.sy_wc[s]
+                y[xo + x] = l0 * float(np.interp(L.sy_T[s, 1], wc[:, 1], wc[:, 2]))
+            else:
+                y[xo + x] = ls[k] - l0
+    n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
+    N = n1 - n0 - 1
+    for i in range(1, N):
+        x = int(L.node_xs[n0 + i])
+        if x >= 0:
+            y[xo + x] = 2.0 * np.pi * i / N
 
 
 def solve_initial_conditions(sys: System) -> None:
@@ -138,15 +178,45 @@ def solve_initial_conditions(sys: System) -> None:
     (spec 6): Newton statics when asked for (or by default with the implicit scheme), else, or
     when Newton fails with an explicit scheme, MoorDyn's stationary solver or dynamic relaxation.
     Fills ``sys.ic_report``."""
+    L = sys.layout.lines
+    # VIV is off while the initial conditions are found (as in MoorDyn); viscoelastic stretch states
+    # are at rest (condensed) in the static solves, and integrated by dynamic relaxation
+    L.xs_ctl[XC_VIV] = 0.0
+    static = not sys.model.options.ICgenDynamic or sys.scheme == Scheme.GENALPHA or _newton_first(sys)
+    if static:
+        L.xs_ctl[XC_MODE] = MODE_STATIC
+        L.xs_ctl[XC_HIST] = 0.0
+    try:
+        _solve_initial_conditions(sys)
+    finally:
+        if static and L.xs_s0.size > 0:
+            # the line states at rest in the final positions (and the Syrope history there)
+            dy = sys._S[0]
+            L_, R, P, _, B, W = sys._kernel_arrays()
+            rhs(0.0, sys.y, dy, L_, R, P, sys.layout.env_ic, B, sys._motion, W, 1.0, -1)
+            store_line_states(sys.y, L, R, W, 0.0, True)
+        end_line_states(L)
+        L.xs_ctl[XC_VIV] = 1.0
+
+
+def _newton_first(sys: System) -> bool:
+    """Newton statics is tried first (ICNewton 1, or -1 with the implicit scheme or floating bodies)."""
+    opts = sys.model.options
+    floating = sys.layout.rigid.fl.body.size > 0
+    return opts.ICNewton == 1 or (opts.ICNewton == -1 and (sys.scheme == Scheme.GENALPHA or floating))
+
+
+def _solve_initial_conditions(sys: System) -> None:
     opts = sys.model.options
     L, R, P, _, B, W = sys._kernel_arrays()
     E = sys.layout.env_ic  # waves off, current on (spec 6.1)
     # Newton when asked for, and by default with the implicit scheme or floating bodies (a hull on its
     # hydrostatics is a stiff, lightly damped system that MoorDyn's pseudo-dynamics settle slowly)
-    floating = sys.layout.rigid.fl.body.size > 0
-    newton = opts.ICNewton == 1 or (opts.ICNewton == -1 and (sys.scheme == Scheme.GENALPHA or floating))
-    if newton and newton_ic(sys, L, R, P, E, B, W):
+    if _newton_first(sys) and newton_ic(sys, L, R, P, E, B, W):
         return
+    if opts.ICgenDynamic:
+        L.xs_ctl[XC_MODE] = MODE_RATE  # dynamic relaxation integrates the line states
+        L.xs_ctl[XC_HIST] = 1.0
     if sys.scheme == Scheme.GENALPHA:
         raise SimulationError("Newton statics did not find the initial equilibrium; the implicit scheme has no "
                               "explicit fallback at its step: set ICNewton 0 with an explicit tScheme, or give "

@@ -37,9 +37,11 @@ from ..core.jacobian import (
     S_NSTEP,
 )
 from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
+from ..core.linestates import XC_DTM
 from ..core.rhs import rhs
+from ..core.schemes import SP_STEPS
 from ..core.seabed import bed_damping_ramp, bed_spring_blend
-from ..core.stability import choose_dtM, stability_report
+from ..core.stability import choose_dtM, segment_period, stability_report
 from ..core.waterkin import fluid_kinematics
 from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
@@ -87,6 +89,11 @@ class System:
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
         if not self.dtM > 0:
             raise ValueError(f"dtM must be > 0, got {self.dtM}")
+        if self.scheme == Scheme.LEULER:
+            # each line's update interval: 0.999 CFL times its segment period (MoorDyn's LEuler)
+            cfl = float(model.options.CFL)
+            T = np.array([segment_period(model, self.layout, li) for li in range(len(model.lines))])
+            self.scheme_params = np.concatenate([self.scheme_params, 0.999 * cfl * T, cfl * T])
         if self.scheme == Scheme.GENALPHA:
             ramp = bed_damping_ramp(self.layout)
             blend = bed_spring_blend(self.layout)
@@ -94,6 +101,8 @@ class System:
             self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
         # a joint's child is pulled back onto its joint at 0.3 / dtM (see core.floating.floating_motion)
         self.layout.rigid.fl.par[1] = JOINT_PULL / self.dtM
+        # VIV refreshes its running RMS values once per time step (core.linestates)
+        self.layout.lines.xs_ctl[XC_DTM] = self.dtM
         self.work = self.layout.new_work()
         n = self.layout.n_state
         self.y = np.zeros(n)
@@ -221,7 +230,7 @@ class System:
                         CatenaryStatus(status).name.lower())
         self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
-        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
+        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks + self.layout.n_line_states > 0:
             solve_initial_conditions(self)
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
@@ -303,6 +312,7 @@ class System:
     def _reset_scheme(self) -> None:
         """Forget what the time scheme carries between steps (after the state was set from outside)."""
         self._S[...] = 0.0  # the fixed-point schemes start without a previous derivative
+        self.scheme_params[SP_STEPS] = 0.0  # Adams-Bashforth start-up, local Euler's first step
         if self._imp is not None:
             st = self._imp[1].stat
             st[S_AVALID] = 0.0
