@@ -18,7 +18,8 @@ How a stretch state is used depends on ``LineArrays.xs_ctl[XC_MODE]``:
   (:func:`moorline.core.floating.radiation_trapezoid`) it is second order and A-stable, matching
   the generalized-alpha scheme; unlike them it is nonlinear (models 3 and 4), so it is a scalar
   Newton solve per segment;
-- ``MODE_STATIC`` (static solves): the state at rest, ds/dt = 0 with no stretch rate.
+- ``MODE_STATIC`` (static solves): the state at rest, ds/dt = 0 with no stretch rate, and no
+  damping force (a Syrope segment keeps its state: its slow strain is history, given by Tmean0).
 
 Syrope segments also carry a history (``sy_T``: the largest mean tension seen, Tmax, and the mean
 tension, Tmean; ``sy_wc``: the working curve of that Tmax), updated at every evaluation when
@@ -170,18 +171,11 @@ def _rate(L, li, s, st, dl, ldot, l0, EA):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _static_state(L, li, s, dl, l0, EA, guess):
-    """Stretch state at rest (ds/dt = 0, no stretch rate) for a total stretch ``dl``."""
+    """Stretch state at rest (ds/dt = 0, no stretch rate) for a total stretch ``dl``. A Syrope
+    segment keeps its state ``guess``: its slow strain is history (the mean tension Tmean0 the
+    deck gives), which creeps towards the working curve over hours, not a static unknown."""
     if L.vis[li] == VIS_SYROPE:
-        if _equal(L.sy_T[s, 1], L.sy_T[s, 0]):
-            A = L.sy_owc
-            r0 = L.sy_tab[li, 0]
-            n = L.sy_tab[li, 1]
-        else:
-            A = L.sy_wc[_wc_index(L, li, s)]
-            r0 = 0
-            n = NWC
-        t = _col_interp(A, r0, n, 0, 1, dl / l0)
-        return l0 * _col_interp(A, r0, n, 1, 2, t)
+        return guess
     if L.vis[li] == VIS_CONSTANT:
         return dl * (1.0 - EA / L.vis_par[li, 0])
     # mean-load dependent: s = dl (1 - EA_s / EA_d(s)), a fixed point (EA_d varies slowly with s)
@@ -265,6 +259,8 @@ def segment_axial(L, W, li, s, ls, ldot, l0):
         update_history(L, li, s, tmean)
     if dl < 0.0:
         T = 0.0
+    if mode == MODE_STATIC:
+        return T, 0.0  # at rest: no damping (a Syrope segment's creep rate does not load it statically)
     return T, L.seg_BA[s] * sdot / l0
 
 
@@ -282,6 +278,8 @@ def update_history(L, li, s, tmean):
 def viv_before(L, W):
     """Keep the node accelerations of the previous evaluation (MoorDyn's rdd_old) for the VIV
     nodes, before the line kernels overwrite them."""
+    if L.xs_ctl[XC_HIST] == 0.0:
+        return  # an evaluation that is not a step's (views, Jacobian columns) keeps the history
     for n in range(L.node_xs.size):
         if L.node_xs[n] >= 0:
             for c in range(3):
@@ -296,7 +294,7 @@ def viv_after(L, E, W):
     ``xs_ctl[XC_DTM]``, as in MoorDyn."""
     t = L.xs_ctl[XC_TIME]
     on = L.xs_ctl[XC_VIV] != 0.0
-    refresh = t >= L.xs_ctl[XC_TOLD] + L.xs_ctl[XC_DTM] or t == 0.0
+    refresh = (t >= L.xs_ctl[XC_TOLD] + L.xs_ctl[XC_DTM] or t == 0.0) and L.xs_ctl[XC_HIST] != 0.0
     node_ptr = L.node_ptr
     seg_ptr = L.seg_ptr
     for li in range(node_ptr.size - 1):

@@ -58,16 +58,14 @@ def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+    # the past derivatives live in S[1..3] (newest first), the new one in S[4]: S[0] is the time
+    # loop's scratch for its final evaluation
     order = int(sp[SP_ORDER])
     n = int(sp[SP_STEPS])
-    f0 = S[0]
+    f0 = S[4]
     f1 = S[1]
     f2 = S[2]
     f3 = S[3]
-    for i in range(y.size):
-        f3[i] = f2[i]
-        f2[i] = f1[i]
-        f1[i] = f0[i]
     B.ctl[1] = 1
     rhs(t, y, f0, L, R, P, E, B, Mo, W, cd_scale, piece)
     B.ctl[1] = 0
@@ -83,6 +81,10 @@ def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     else:
         for i in range(y.size):
             y[i] += h * (55.0 * f0[i] - 59.0 * f1[i] + 37.0 * f2[i] - 9.0 * f3[i]) / 24.0
+    for i in range(y.size):
+        f3[i] = f2[i]
+        f2[i] = f1[i]
+        f1[i] = f0[i]
     sp[SP_STEPS] = min(n + 1, order - 1)
 
 

@@ -37,7 +37,7 @@ from ..core.jacobian import (
     S_NSTEP,
 )
 from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
-from ..core.linestates import XC_DTM
+from ..core.linestates import XC_DTM, XC_HIST
 from ..core.rhs import rhs
 from ..core.schemes import SP_STEPS
 from ..core.seabed import bed_damping_ramp, bed_spring_blend
@@ -107,6 +107,7 @@ class System:
         n = self.layout.n_state
         self.y = np.zeros(n)
         self._S = np.zeros((5, n))
+        self._dy_eval = np.zeros(n)
         self._imp = None  # structure and work of the implicit solves, built on first use
         self.t = 0.0
         self._motion = static_motion(self.deck_coupled_positions())
@@ -180,9 +181,17 @@ class System:
         """Evaluate every load at the current state and time (refreshes what the views report).
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
-        dy = self._S[0]
         L, R, P, E, B, W = self._kernel_arrays()
-        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, 1.0, piece)
+        # an evaluation for the views is not a step: the line-state histories (Syrope, VIV) and the
+        # accelerations VIV remembers are left as the last step left them
+        hist = L.xs_ctl[XC_HIST]
+        L.xs_ctl[XC_HIST] = 0.0
+        viv = bool(np.any(L.viv[:, 0] > 0))
+        acc = W.acc.copy() if viv else None
+        rhs(self.t, self.y, self._dy_eval, L, R, P, E, B, self._motion, W, 1.0, piece)
+        L.xs_ctl[XC_HIST] = hist
+        if viv:
+            W.acc[...] = acc  # VIV's "previous evaluation" stays the last one of the step
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
