@@ -77,7 +77,7 @@ from .jacobian import (
     step_jacobian,
 )
 from .layout import Layout
-from .linestates import end_line_states, keep_rates, start_line_states, store_line_states
+from .linestates import MODE_RATE, XC_MODE, end_line_states, keep_rates, start_line_states, store_line_states
 from .rhs import motion_eval, motion_piece, rhs
 
 #: the Jacobian is rebuilt when the contraction of the Newton increments is at least THETA_MAX, or
@@ -282,9 +282,10 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
         IW.a1[i] = IW.a0[i] + w * (IW.a0[i] - IW.ap[i])
-    nx = L.xs_s0.size
+    # viscoelastic stretch states are condensed by the trapezoidal rule inside the step map (when
+    # a static solve has them condensed at rest, as during implicit relaxation, they stay so)
+    nx = L.xs_s0.size if L.xs_ctl[XC_MODE] == MODE_RATE else 0
     if nx > 0:
-        # viscoelastic stretch states are condensed by the trapezoidal rule inside the step map
         start_line_states(y, L, R, h)
     hj = IW.stat[S_HJ]
     rebuild = hj <= 0.0 or abs(h - hj) > 1e-9 * h

@@ -259,6 +259,17 @@ def segment_axial(L, W, li, s, ls, ldot, l0):
         update_history(L, li, s, tmean)
     if dl < 0.0:
         T = 0.0
+    elif mode == MODE_TRAPEZOID and T != 0.0:
+        # The static branch can carry a tension while the whole segment goes slack (its stretch s
+        # relaxes slowly), so MoorDyn's cut-off makes the tension jump to zero at dl = 0: a force
+        # discontinuity at which Newton has no root (the node chatters there in explicit schemes).
+        # The implicit scheme blends the cut-off in (C1) over the stretch the static stiffness
+        # would need to carry that tension, delta = |T| l / EA_s, so the blended tension is no
+        # stiffer than 1.5 EA_s / l; explicit schemes keep MoorDyn's switch.
+        delta = abs(T) * l0 / EA
+        if dl < delta:
+            xi = dl / delta
+            T *= xi * xi * (3.0 - 2.0 * xi)
     if mode == MODE_STATIC:
         return T, 0.0  # at rest: no damping (a Syrope segment's creep rate does not load it statically)
     return T, L.seg_BA[s] * sdot / l0

@@ -47,7 +47,7 @@ from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
 from .floating import JOINT_PULL, floating_arrays
-from .initial import MAX_NODE_SPEED, catenary_start, solve_initial_conditions
+from .initial import MAX_NODE_SPEED, catenary_start, report_residual, solve_initial_conditions
 from .views import BodyView, LineView, PointView, RodView
 
 log = logging.getLogger("moorline")
@@ -241,6 +241,7 @@ class System:
         opts = self.model.options
         if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks + self.layout.n_line_states > 0:
             solve_initial_conditions(self)
+            report_residual(self)
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
