@@ -365,6 +365,11 @@ class _Reader:
             rA = (f.pop("Xa"), f.pop("Ya"), f.pop("Za"))
             rB = (f.pop("Xb"), f.pop("Yb"), f.pop("Zb"))
             f["kind"], f["body"] = f["kind"]
+            if f["N"] == 0 and rA != rB:
+                log.warning("%s, line %d: rod %d has NumSegs 0, so it is a zero-length rod: both its ends are at end "
+                            "A (%g, %g, %g) and its axis follows its cables at every step, as in MoorDyn; end B (%g, "
+                            "%g, %g) is not used. A cable clamped at a fixed angle needs a rod with segments",
+                            self.file, row.line, k, *rA, *rB)
             self.model.rods.append(Rod(rA=rA, rB=rB, **f))
             self.rod_rows.append(row)
         self.n_rods = len(self.model.rods)

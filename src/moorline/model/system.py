@@ -203,10 +203,11 @@ class Model:
     def rod_ends(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """Deck-pose global positions of the ends A and B of rod ``k`` [m]."""
         rod = self.rods[k]
+        rB = rod.rB if rod.N > 0 else rod.rA  # a zero-length rod has both ends at end A
         if rod.kind in (RodKind.BODY, RodKind.BODY_PINNED):
             b = self.bodies[rod.body]
-            return b.to_global(rod.rA), b.to_global(rod.rB)
-        return rod.rA.copy(), rod.rB.copy()
+            return b.to_global(rod.rA), b.to_global(rB)
+        return rod.rA.copy(), np.array(rB, dtype=float)
 
     @property
     def coupled_points(self) -> list[int]:

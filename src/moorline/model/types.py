@@ -291,7 +291,10 @@ class Rod:
     rA, rB : array_like (3,)
         End positions [m] (global frame; body frame for rods on bodies).
     N : int
-        Number of segments (0: a zero-length rod joining cables).
+        Number of segments (0: a zero-length rod joining cables). As in MoorDyn, a zero-length rod
+        has both ends at end A (``rB`` is not used) and takes its axis from the cables on it at every
+        evaluation, whatever it is attached to: a cable on it is in effect pinned there. A clamp
+        (a cable leaving at a fixed angle) needs a rod with segments.
     outputs : str
         MoorDyn rod output flags.
     body : int or None
@@ -313,11 +316,15 @@ class Rod:
 
     @property
     def length(self) -> float:
+        """|B - A| [m]; 0 for a zero-length rod (N = 0) whatever its end B says, as in MoorDyn."""
+        if self.N == 0:
+            return 0.0
         return float(np.linalg.norm(self.rB - self.rA))
 
     @property
     def axis(self) -> np.ndarray:
-        """Unit vector from end A to end B (zero for a zero-length rod)."""
+        """Unit vector from end A to end B (zero for a zero-length rod, whose axis comes from its
+        cables at run time)."""
         L = self.length
         return (self.rB - self.rA) / L if L > 0 else np.zeros(3)
 
