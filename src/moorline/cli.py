@@ -74,7 +74,9 @@ def _load(args):
             model.env.current = parse_current(args.current)
     except ValueError as e:  # a bad --waves / --current value: bad input, exit code 2
         raise DeckError(str(e)) from None
-    kwargs = {k: v for k, v in run.items() if k in ("dtM", "scheme")}
+    kwargs = {k: v for k, v in run.items() if k in ("dtM", "scheme", "mooring")}
+    if getattr(args, "mooring", None):
+        kwargs["mooring"] = args.mooring
     if getattr(args, "dtM", None):
         kwargs["dtM"] = args.dtM
     if getattr(args, "scheme", None):
@@ -192,6 +194,15 @@ def cmd_run(args) -> int:
         tb = ds.line_tension_b.sel(line=ln.number).values
         print(f"  line {ln.number}: fairlead tension min {tb.min() / 1e3:.1f} kN, mean {tb.mean() / 1e3:.1f} kN, "
               f"max {tb.max() / 1e3:.1f} kN")
+    fl = system.layout.fl
+    for b in fl.body:
+        pose = ds.body_pose.sel(body=int(b) + 1).values
+        print(f"  floating body {int(b) + 1}: surge mean {pose[:, 0].mean():.3f} m, std heave {pose[:, 2].std():.3f} "
+              f"m, pitch {np.degrees(pose[:, 4]).std():.3f} deg, yaw {np.degrees(pose[:, 5]).std():.3f} deg")
+    if "pto_power" in ds:
+        for j in ds.joint.values:
+            P = ds.pto_power.sel(joint=j).values
+            print(f"  joint {j}: mean PTO power {P.mean() / 1e3:.2f} kW, max {P.max() / 1e3:.1f} kW")
     for p in written:
         print(f"  wrote {p}")
     return 0
@@ -431,6 +442,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--waves", help="a sea instead of the deck's WaveKin: jonswap:Hs=3.5,Tp=7.5[,gamma=3.3]"
                    "[,heading=180][,seed=1][,n=200][,ramp=20], pm:Hs=..,Tp=.. or regular:H=2,T=8[,heading=..]")
     p.add_argument("--current", help="a uniform current instead of the deck's Currents: SPEED@HEADING, e.g. 1.0@180")
+    p.add_argument("--mooring", choices=("dynamic", "quasistatic"),
+                   help="lines as dynamic lumped masses (default) or quasi-static catenaries re-solved every step "
+                   "(floating bodies only)")
     p.add_argument("--no-ic", action="store_true", help="start from the catenary profile (no IC solve)")
     p.add_argument("--accept-unconverged-ic", action="store_true",
                    help="run even when the initial conditions did not converge (default: stop, exit code 3)")

@@ -4,8 +4,10 @@ One run (:func:`moorline.simulate` results): :func:`curvature_envelope`. A sweep
 (:func:`moorline.studies.run_sweep` dataset): :func:`envelopes_along_arc` (curvature, stress, ...
 envelopes per case), :func:`damage_along_arc`, :func:`scatter_heatmap` (the fatigue Hs-Tz matrix)
 and :func:`sensitivity` (how a result depends on each parameter). Quasi-static studies
-(:mod:`moorline.quasistatic.studies` datasets): :func:`offset_curve` and :func:`watch_circle`. Every
-function draws into the axes it is given (or a new figure) and returns the axes.
+(:mod:`moorline.quasistatic.studies` datasets): :func:`offset_curve` and :func:`watch_circle`. Floating
+bodies: :func:`rao` (frequency-domain RAOs of :func:`moorline.hydro.rao`, with time-domain points) and
+:func:`decay` (a free decay from a run's results). Every function draws into the axes it is given (or a
+new figure) and returns the axes.
 """
 
 from __future__ import annotations
@@ -13,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-__all__ = ["cases", "curvature_envelope", "damage_along_arc", "envelopes_along_arc", "offset_curve", "scatter_heatmap",
-           "sensitivity", "watch_circle"]
+__all__ = ["cases", "curvature_envelope", "damage_along_arc", "decay", "envelopes_along_arc", "offset_curve", "rao",
+           "scatter_heatmap", "sensitivity", "watch_circle"]
 
 
 def _axes(ax, figsize=(7.0, 4.2)):
@@ -262,3 +264,56 @@ def _colors(n: int):
 
     cmap = plt.get_cmap("viridis")
     return [cmap(i / max(n - 1, 1)) for i in range(n)]
+
+
+def rao(ds: xr.Dataset, dofs, *, ax=None, period: bool = True, time_domain=None, labels=None):
+    """Amplitudes of response amplitude operators against period (or frequency).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`moorline.hydro.rao` (variable ``rao`` over omega and influenced_dof).
+    dofs : list of str
+        DOF labels to draw (e.g. ``["body1__Heave", "body2__Heave"]``).
+    time_domain : dict, optional
+        ``{dof: (omega array, amplitude array)}`` steady time-domain amplitudes per unit wave
+        amplitude, drawn as markers on the same axes.
+    """
+    ax = _axes(ax)
+    w = ds["omega"].values
+    x = 2 * np.pi / w if period else w
+    for k, dof in enumerate(dofs):
+        label = labels[k] if labels else dof
+        line, = ax.plot(x, np.abs(ds["rao"].sel(influenced_dof=dof).values), label=f"{label} (frequency domain)")
+        if time_domain and dof in time_domain:
+            wt, amp = time_domain[dof]
+            xt = 2 * np.pi / np.asarray(wt) if period else np.asarray(wt)
+            ax.plot(xt, amp, "o", color=line.get_color(), label=f"{label} (time domain)")
+    ax.set_xlabel("wave period [s]" if period else "wave frequency [rad/s]")
+    ax.set_ylabel("amplitude per unit wave amplitude [m/m, rad/m]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def decay(ds: xr.Dataset, body: int, dof: str, *, ax=None, mean=None):
+    """A free decay from a run's results: the body's pose component ``dof`` (x, y, z, roll, pitch,
+    yaw) against time, with its peaks and the damped period from the zero crossings about ``mean``
+    (default: the last sample)."""
+    ax = _axes(ax)
+    t = ds["time"].values
+    x = ds["body_pose"].sel(body=body, pose=dof).values
+    m = x[-1] if mean is None else mean
+    ax.plot(t, x, lw=1.2)
+    d = x - m
+    i = np.where(np.sign(d[:-1]) != np.sign(d[1:]))[0]
+    if i.size >= 3:
+        zc = t[i] - d[i] * (t[i + 1] - t[i]) / (d[i + 1] - d[i])
+        period = 2.0 * float(np.mean(np.diff(zc)))
+        ax.set_title(f"body {body} {dof} decay: damped period {period:.3g} s", fontsize=10)
+    unit = "m" if dof in ("x", "y", "z") else "rad"
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(f"{dof} [{unit}]")
+    ax.grid(True, alpha=0.3)
+    return ax
+

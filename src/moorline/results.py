@@ -86,8 +86,9 @@ class Recorder:
             d["node_bending_moment"].append(_cat([ln.node_bending_moments() for ln in s.lines]))
         d["segment_tension"].append(np.linalg.norm(w.T + w.Td, axis=1))
         d["segment_strain"].append(w.seg_len / s.layout.lines.seg_l0 - 1.0)
-        d["line_tension_a"].append([ln.anchor_tension() for ln in s.lines])
-        d["line_tension_b"].append([ln.fairlead_tension() for ln in s.lines])
+        T = s.line_end_tensions()  # the quasi-static lines' in the quasi-static mode
+        d["line_tension_a"].append(T[:, 0])
+        d["line_tension_b"].append(T[:, 1])
         d["point_position"].append(w.pr.copy())
         d["point_velocity"].append(w.pv.copy())
         d["point_force"].append(w.pF.copy())
@@ -102,14 +103,14 @@ class Recorder:
             d["body_pose"].append(np.array([b.pose() for b in s.bodies]))
             d["body_velocity"].append(np.concatenate([w.bv, w.bw], axis=1))
             d["body_force"].append(w.b6F.copy())
-        fl = s.layout.rigid.fl
+        fl = s.layout.fl
         if fl.body.size:
-            d["float_force"].append(w.fw.F.copy())
-            d["float_displacement"].append(w.fw.xi.copy())
+            d["float_force"].append(s.fwork.F.copy())
+            d["float_displacement"].append(s.fwork.xi.copy())
             if fl.jt_child.size:
-                d["joint_slide"].append(w.fw.jt[:, 0].copy())
-                d["joint_slide_rate"].append(w.fw.jt[:, 1].copy())
-                d["pto_power"].append(w.fw.jt[:, 2].copy())
+                d["joint_slide"].append(s.fwork.jt[:, 0].copy())
+                d["joint_slide_rate"].append(s.fwork.jt[:, 1].copy())
+                d["pto_power"].append(s.fwork.jt[:, 2].copy())
 
     def to_dataset(self) -> xr.Dataset:
         s = self.system
@@ -170,7 +171,7 @@ class Recorder:
         coords = {
             "time": ("time", np.asarray(self.t), {"units": "s"}),
             "xyz": ("xyz", ["x", "y", "z"]),
-            "line": ("line", np.arange(1, nl + 1)),
+            "line": ("line", np.arange(1, (d["line_tension_b"].shape[1] if "line_tension_b" in d else nl) + 1)),
             "point": ("point", np.arange(1, len(s.points) + 1)),
             "node_line": ("node", node_line),
             "node_index": ("node", node_index),
@@ -178,7 +179,7 @@ class Recorder:
             "segment_line": ("segment", seg_line),
             "segment_index": ("segment", seg_index),
             "segment_s": ("segment", seg_s, {"units": "m"}),
-            "line_type": ("line", np.array(lay.line_type_names, dtype=str)),
+            "line_type": ("line", np.array([ln.line_type for ln in s.full_model.lines], dtype=str)),
             "point_kind": ("point", np.array([p.kind.name.lower() for p in s.model.points], dtype=str)),
         }
         if s.n_coupled_dof:
@@ -193,7 +194,7 @@ class Recorder:
         if s.bodies:
             coords["body"] = ("body", np.arange(1, len(s.bodies) + 1))
             coords["pose"] = ("pose", ["x", "y", "z", "roll", "pitch", "yaw"])
-        fl = lay.rigid.fl
+        fl = lay.fl
         if fl.body.size:
             coords["floating_body"] = ("floating_body", fl.body + 1, {"long_name": "deck body number"})
             coords["force_component"] = ("force_component", list(FC_NAMES))

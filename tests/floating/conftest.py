@@ -114,3 +114,51 @@ def steady_amplitude(t, x, omega, periods: float):
     X = np.column_stack([np.ones(sel.sum()), t[sel], np.cos(omega * t[sel]), np.sin(omega * t[sel])])
     coef, *_ = np.linalg.lstsq(X, x[sel], rcond=None)
     return coef[2] + 1j * coef[3]
+
+
+# ------------------------------------------------------------------ a spar on three catenaries
+SPAR_DEPTH = 320.0
+SPAR_MASS = 8.066e6  # platform with a rigid turbine [kg]
+SPAR_RCG = (0.0, 0.0, -78.0)
+SPAR_INERTIA = (6.0e9, 6.0e9, 1.6e8)
+YAW_SPRING = 98.34e6  # the OC3 delta connection's yaw stiffness [N m/rad]
+
+
+def _profile():
+    """Meridian of the OC3 hull: 9.4 m diameter to 120 m draft, tapering between 12 m and 4 m below
+    the surface to 6.5 m; panels of about 4 m along it."""
+    pts = [(0.0, -120.0)]
+    for a, b, n in (((0.0, -120.0), (4.7, -120.0), 3), ((4.7, -120.0), (4.7, -12.0), 27),
+                    ((4.7, -12.0), (3.25, -4.0), 4), ((3.25, -4.0), (3.25, 0.0), 2)):
+        for s in np.linspace(0.0, 1.0, n + 1)[1:]:
+            pts.append((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])))
+    return np.array(pts)
+
+
+@pytest.fixture(scope="session")
+def spar(tmp_path_factory):
+    """OC3-Hywind-like spar hull: Capytaine coefficients (once per session)."""
+    pytest.importorskip("capytaine")
+    return hydro.compute_coefficients(hydro.mesh_axisymmetric(_profile(), n_theta=24),
+                                      omega=np.linspace(0.05, 3.0, 40), rho=1025.0, g=9.80665, water_depth=SPAR_DEPTH,
+                                      rotation_center=[0.0, 0.0, 0.0], cache_dir=tmp_path_factory.mktemp("hydro"))
+
+
+def spar_model(ds, scheme="GenAlpha", dtM=0.1, waves=None, **floating) -> Model:
+    m = Model()
+    m.env.depth = SPAR_DEPTH
+    m.options.tScheme = scheme
+    m.options.dtM = dtM
+    m.add_line_type("chain", d=0.09, w=77.7066, EA=384.243e6, BA=-0.8, Cd=1.6, Ca=1.0, CdAx=0.1, CaAx=0.0)
+    b = m.add_body("free", (0.0, 0.0, 0.0), m=SPAR_MASS, rCG=SPAR_RCG, I=SPAR_INERTIA)
+    for k in range(3):
+        a = np.radians(180.0 + 120.0 * k)
+        fl = m.add_point("body", (5.2 * np.cos(a), 5.2 * np.sin(a), -70.0), body=b)
+        an = m.add_point("fixed", (853.87 * np.cos(a), 853.87 * np.sin(a), -SPAR_DEPTH))
+        m.add_line("chain", an, fl, L=902.2, N=20)
+    m.add_hydro([b], ds)
+    floating.setdefault("stiffness", [0, 0, 0, 0, 0, YAW_SPRING])
+    m.add_floating(b, **floating)
+    m.env.waves = waves
+    m.env.waves_on_lines = False
+    return m

@@ -47,7 +47,7 @@ def _run(ds, T, scheme, dtM, n_periods=80, samples=40, record_energy=False):
             s.step(None, None, t[k - 1], t[k] - t[k - 1])
         poses.append(np.concatenate([s.bodies[0].pose(), s.bodies[1].pose()]))
         if record_energy:
-            fw = s.work.fw
+            fw = s.fwork
             energy.append((fw.vel.copy(), fw.F.copy(), fw.jt[0, 2]))
     return t, np.array(poses), energy, s
 

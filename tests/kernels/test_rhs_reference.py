@@ -407,18 +407,15 @@ def run_kernel(model, y, t, motion, kin, cd_scale):
     W = layout.new_work()
     # everything rhs must compute is poisoned first: a value it forgets to (re)set shows up as NaN
     for name in W._fields:
-        if name == "fw":  # the floating-body work arrays (none float here)
-            for a in W.fw:
-                if a.dtype == float:
-                    a[...] = np.nan
-        elif name not in ("U", "Ud", "zeta", "pU"):
+        if name not in ("U", "Ud", "zeta", "pU"):
             getattr(W, name)[...] = np.nan
     W.U[...] = kin["U"]
     W.Ud[...] = kin["Ud"]
     W.zeta[...] = kin["zeta"]
     W.pU[...] = kin["pU"]
     dy = np.full_like(y, np.nan)
-    rhs(t, y, dy, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, cd_scale, -1)
+    rhs(t, y, dy, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, layout.fl,
+        layout.new_float_work(), cd_scale, -1)
     return layout, W, dy
 
 
@@ -497,7 +494,8 @@ def test_rhs_is_repeatable_and_pure(case):
     name, _, _, layout, W, dy = case
     _, y, t, motion, _, cd_scale = make_case(**CASES[name])
     dy2 = np.zeros_like(dy)
-    rhs(t, y, dy2, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, cd_scale, -1)
+    rhs(t, y, dy2, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, layout.fl,
+        layout.new_float_work(), cd_scale, -1)
     np.testing.assert_array_equal(dy2, dy)
 
 

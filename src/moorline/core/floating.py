@@ -36,6 +36,7 @@ import math
 from numba import njit
 
 from .layout import (
+    CTL_QS_MOORING,
     CTL_RADIATION,
     EXC_OFF,
     EXC_SUM,
@@ -43,6 +44,7 @@ from .layout import (
     FC_EXCITATION,
     FC_EXTRA,
     FC_HYDROSTATIC,
+    FC_MOORING,
     FC_MORISON,
     FC_PTO,
     FC_RADIATION,
@@ -50,7 +52,7 @@ from .layout import (
     RAD_CONVOLUTION,
     RAD_STATE_SPACE,
 )
-from .numerics import quat_to_R, solve_dense
+from .numerics import lu_factor, lu_solve, quat_mul, quat_to_R, solve_dense
 from .waterkin import _ramp, fluid_at
 
 
@@ -67,23 +69,6 @@ def rel_angles(Rm, R0, out, o):
     out[o + 1] = math.asin(max(-1.0, min(1.0, r02)))
     out[o] = math.atan2(-r12, r22)
     out[o + 2] = math.atan2(-r01, r00)
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _quat_mul(a, oa, b, ob, out, oo):
-    """out[oo:oo+4] = a[oa:oa+4] (x) b[ob:ob+4] (w, x, y, z)."""
-    aw = a[oa]
-    ax = a[oa + 1]
-    ay = a[oa + 2]
-    az = a[oa + 3]
-    bw = b[ob]
-    bx = b[ob + 1]
-    by = b[ob + 2]
-    bz = b[ob + 3]
-    out[oo] = aw * bw - ax * bx - ay * by - az * bz
-    out[oo + 1] = aw * bx + ax * bw + ay * bz - az * by
-    out[oo + 2] = aw * by - ax * bz + ay * bw + az * bx
-    out[oo + 3] = aw * bz + ax * by - ay * bx + az * bw
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -170,11 +155,10 @@ def _convolution(t, F, fw, f, out):
 
 # ------------------------------------------------------------------------------------ loads
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_loads(t, y, dy, R, E, W):
+def floating_loads(t, y, dy, R, E, W, F, FW):
     """Potential-flow, extra and PTO loads of every floating body into W.b6F (A_inf into W.b6M),
-    their components into W.fw.F, and the derivatives of the state-space radiation states."""
-    F = R.fl
-    fw = W.fw
+    their components into FW.F, and the derivatives of the state-space radiation states."""
+    fw = FW
     nf = F.body.size
     rho = E.rho
     comp = fw.F
@@ -282,7 +266,7 @@ def floating_loads(t, y, dy, R, E, W):
             cf[5] += gx * fy - gy * fx
     # joints: slide, rate and the PTO force pair
     for jn in range(F.jt_child.size):
-        joint_state(F, W, jn)
+        joint_state(F, FW, W, jn)
         s = fw.jt[jn, 0]
         sd = fw.jt[jn, 1]
         fp = -F.jt_k[jn] * (s - F.jt_s0[jn]) - F.jt_c[jn] * sd
@@ -303,6 +287,20 @@ def floating_loads(t, y, dy, R, E, W):
             pf[3] -= fp * (dy_ * ez - dz * ey)
             pf[4] -= fp * (dz * ex - dx * ez)
             pf[5] -= fp * (dx * ey - dy_ * ex)
+    # the quasi-static mooring, linearised about the pose of the step's start
+    if F.ctl[CTL_QS_MOORING] == 1:
+        pose = FW.qpose
+        for f in range(nf):
+            i = F.body[f]
+            for c in range(3):
+                pose[6 * f + c] = W.br[i, c]
+            rel_angles(W.bR[i], FW.eye3, pose, 6 * f + 3)
+        nd = 6 * nf
+        for a in range(nd):
+            s = F.ql_F[a]
+            for b in range(nd):
+                s -= F.ql_K[a, b] * (pose[b] - F.ql_x0[b])
+            comp[a // 6, FC_MOORING, a % 6] = s
     # into the bodies' loads and mass matrices
     for f in range(nf):
         i = F.body[f]
@@ -333,10 +331,21 @@ def _joint_axis(F, W, jn):
     return ex, ey, ez, W.br[ci, 0] - W.br[pi, 0], W.br[ci, 1] - W.br[pi, 1], W.br[ci, 2] - W.br[pi, 2]
 
 
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def _relative_velocity(W, ci, pi, dx, dy, dz):
+    """Velocity of body ``ci``'s reference point relative to the point of body ``pi`` it is at,
+    d = (dx, dy, dz) from ``pi``'s reference point: v_c - v_p - omega_p x d."""
+    wx = W.bw[pi, 0]
+    wy = W.bw[pi, 1]
+    wz = W.bw[pi, 2]
+    return (W.bv[ci, 0] - W.bv[pi, 0] - (wy * dz - wz * dy), W.bv[ci, 1] - W.bv[pi, 1] - (wz * dx - wx * dz),
+            W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx))
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
-def joint_state(F, W, jn):
+def joint_state(F, FW, W, jn):
     """Slide s [m] and its rate [m/s] of joint ``jn`` from the body kinematics in W, into
-    W.fw.jt[jn, 0:2]."""
+    FW.jt[jn, 0:2]."""
     c = F.jt_child[jn]
     p = F.jt_parent[jn]
     ci = F.body[c]
@@ -349,28 +358,22 @@ def joint_state(F, W, jn):
     else:
         pi = F.body[p]
         s = ex * dx + ey * dy + ez * dz - (a[0] * d0[0] + a[1] * d0[1] + a[2] * d0[2])
-        wx = W.bw[pi, 0]
-        wy = W.bw[pi, 1]
-        wz = W.bw[pi, 2]
-        rvx = W.bv[ci, 0] - W.bv[pi, 0] - (wy * dz - wz * dy)
-        rvy = W.bv[ci, 1] - W.bv[pi, 1] - (wz * dx - wx * dz)
-        rvz = W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx)
+        rvx, rvy, rvz = _relative_velocity(W, ci, pi, dx, dy, dz)
         sd = ex * rvx + ey * rvy + ez * rvz
-    W.fw.jt[jn, 0] = s
-    W.fw.jt[jn, 1] = sd
+    FW.jt[jn, 0] = s
+    FW.jt[jn, 1] = sd
 
 
 # ------------------------------------------------------------------------------------ group motion
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_motion(R, W):
+def floating_motion(R, W, F, FW):
     """Accelerations of the bodies of every group with several members or a joint (one solve per
     group, in reduced coordinates when it has joints) into W.bacc; single bodies are left to the
     rigid-body solve. A joint's child that is off its joint (within an explicit step before the
     projection, or while Newton statics iterate) gets a critically damped pull back onto it at the
     rate F.par[1] (0.3 / dtM: a real eigenvalue -0.3 per step, harmless for every scheme); on the
     joint the pull is zero, so the dynamics are those of the exact constraint."""
-    F = R.fl
-    fw = W.fw
+    fw = FW
     for g in range(F.grp_ptr.size - 1):
         g0 = F.grp_ptr[g]
         nm = F.grp_ptr[g + 1] - g0
@@ -493,14 +496,14 @@ def floating_motion(R, W):
     wc = F.par[1]
     for jn in range(F.jt_child.size):
         e = fw.jerr
-        _joint_violation(F, W, jn, e)
+        _joint_violation(F, FW, W, jn, e)
         ci = F.body[F.jt_child[jn]]
         for a in range(6):
             W.bacc[ci, a] -= wc * wc * e[a] + 2.0 * wc * e[6 + a]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _joint_violation(F, W, jn, out):
+def _joint_violation(F, FW, W, jn, out):
     """How far the child of joint ``jn`` is off its joint: position and rotation-vector errors
     (out[0:6]) and velocity and angular-velocity errors (out[6:12]), from the body kinematics in W."""
     c = F.jt_child[jn]
@@ -508,8 +511,8 @@ def _joint_violation(F, W, jn, out):
     ci = F.body[c]
     a = F.jt_axis[jn]
     d0 = F.jt_d0[jn]
-    Rt = W.fw.m33[1]
-    Rq = W.fw.m33[0]
+    Rt = FW.m33[1]
+    Rq = FW.m33[0]
     quat_to_R(F.jt_q[jn], 0, Rq)
     if p < 0:
         ex = a[0]
@@ -546,9 +549,7 @@ def _joint_violation(F, W, jn, out):
         wx = W.bw[pi, 0]
         wy = W.bw[pi, 1]
         wz = W.bw[pi, 2]
-        vx = W.bv[ci, 0] - W.bv[pi, 0] - (wy * dz - wz * dy)
-        vy = W.bv[ci, 1] - W.bv[pi, 1] - (wz * dx - wx * dz)
-        vz = W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx)
+        vx, vy, vz = _relative_velocity(W, ci, pi, dx, dy, dz)
         for i in range(3):
             for j in range(3):
                 Rt[i, j] = Rp[i, 0] * Rq[0, j] + Rp[i, 1] * Rq[1, j] + Rp[i, 2] * Rq[2, j]
@@ -580,43 +581,24 @@ def _joint_violation(F, W, jn, out):
 # ------------------------------------------------------------------------------------ implicit scheme
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _factor_pair(F, fw, p, h):
-    """LU factors (partial pivoting) of I - h/2 A of state-space pair ``p`` into fw.lu."""
+    """LU factors of I - h/2 A of state-space pair ``p`` into fw.lu (rows of the pair)."""
     p0 = F.ss_ptr[p]
     n = F.ss_ptr[p + 1] - p0
-    lu = fw.lu
-    piv = fw.lu_piv
     for r in range(n):
         for c in range(n):
-            lu[p0 + r, c] = (1.0 if r == c else 0.0) - 0.5 * h * F.ss_A[p0 + r, c]
-    for c in range(n):
-        q = c
-        big = abs(lu[p0 + c, c])
-        for r in range(c + 1, n):
-            if abs(lu[p0 + r, c]) > big:
-                big = abs(lu[p0 + r, c])
-                q = r
-        piv[p0 + c] = q
-        if q != c:
-            for k in range(n):
-                tmp = lu[p0 + c, k]
-                lu[p0 + c, k] = lu[p0 + q, k]
-                lu[p0 + q, k] = tmp
-        for r in range(c + 1, n):
-            lu[p0 + r, c] /= lu[p0 + c, c]
-            for k in range(c + 1, n):
-                lu[p0 + r, k] -= lu[p0 + r, c] * lu[p0 + c, k]
+            fw.lu[p0 + r, c] = (1.0 if r == c else 0.0) - 0.5 * h * F.ss_A[p0 + r, c]
+    lu_factor(fw.lu, p0, n, fw.lu_piv)
     fw.lu_h[p] = h
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def radiation_trapezoid(y0, y1, h, R, W):
+def radiation_trapezoid(y0, y1, h, R, F, FW):
     """State-space radiation states at the end of an implicit step of length ``h`` by the
     trapezoidal rule, (I - h/2 A) z1 = (I + h/2 A) z0 + h/2 B (v0 + v1), from the body velocities at
     both ends (``y0``, ``y1``) into ``y1``."""
-    F = R.fl
     if F.ss_i.size == 0 or F.ctl[CTL_RADIATION] != RAD_STATE_SPACE:
         return
-    fw = W.fw
+    fw = FW
     zoff = 6 * R.dims[0] + 13 * R.dims[1]
     b = fw.zv
     for p in range(F.ss_i.size):
@@ -631,34 +613,20 @@ def radiation_trapezoid(y0, y1, h, R, W):
             for c in range(n):
                 s += 0.5 * h * F.ss_A[p0 + r, c] * y0[zoff + p0 + c]
             b[r] = s
-        # forward and back substitution with the row swaps of the factorisation
-        for c in range(n):
-            q = fw.lu_piv[p0 + c]
-            if q != c:
-                tmp = b[c]
-                b[c] = b[q]
-                b[q] = tmp
-            for r in range(c + 1, n):
-                b[r] -= fw.lu[p0 + r, c] * b[c]
-        for r in range(n - 1, -1, -1):
-            s = b[r]
-            for c in range(r + 1, n):
-                s -= fw.lu[p0 + r, c] * b[c]
-            b[r] = s / fw.lu[p0 + r, r]
+        lu_solve(fw.lu, p0, n, fw.lu_piv, b)
         for r in range(n):
             y1[zoff + p0 + r] = b[r]
 
 
 # ------------------------------------------------------------------------------------ after a step
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _project_joints(y, R, W):
+def _project_joints(y, R, W, F, FW):
     """Put every joint's child back on its joint: position, orientation, velocity and angular
     velocity from the parent's state and the slide (projected from the child's own state)."""
-    F = R.fl
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
-    Rp = W.fw.m33[0]
+    Rp = FW.m33[0]
     for jn in range(F.jt_child.size):
         c = F.jt_child[jn]
         p = F.jt_parent[jn]
@@ -705,7 +673,7 @@ def _project_joints(y, R, W):
         y[cq] = y[pq] + dx
         y[cq + 1] = y[pq + 1] + dy
         y[cq + 2] = y[pq + 2] + dz
-        _quat_mul(y, pq + 3, F.jt_q[jn], 0, y, cq + 3)
+        quat_mul(y[pq + 3], y[pq + 4], y[pq + 5], y[pq + 6], F.jt_q[jn], 0, y, cq + 3)
         y[cu] = y[pu] + wy * dz - wz * dy + sd * ex
         y[cu + 1] = y[pu + 1] + wz * dx - wx * dz + sd * ey
         y[cu + 2] = y[pu + 2] + wx * dy - wy * dx + sd * ez
@@ -715,11 +683,10 @@ def _project_joints(y, R, W):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _record_history(t, y, R, W):
+def _record_history(t, y, F, FW):
     """Velocity samples at t_k = k dt up to ``t`` (linear between the last recorded step end and
     this one) into the convolution's ring buffer."""
-    F = R.fl
-    fw = W.fw
+    fw = FW
     nt = fw.hist.shape[0]
     nd = fw.vlast.size
     dt = F.par[0]
@@ -742,32 +709,30 @@ def _record_history(t, y, R, W):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_after_step(t, y, R, W):
+def floating_after_step(t, y, R, W, F, FW):
     """After an accepted step ending at ``t``: children back on their joints; the convolution's
     velocity history."""
-    F = R.fl
     if F.body.size == 0:
         return
     if F.jt_child.size > 0:
-        _project_joints(y, R, W)
+        _project_joints(y, R, W, F, FW)
     if F.ctl[CTL_RADIATION] == RAD_CONVOLUTION:
-        _record_history(t, y, R, W)
+        _record_history(t, y, F, FW)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def floating_restart(t, y, R, W):
+def floating_restart(t, y, R, W, F, FW):
     """Forget the radiation memory (state-space states zero, no velocity history) and restart the
     history at time ``t`` with the current velocities (after the initial conditions, or a state
     set from outside)."""
-    F = R.fl
     if F.body.size == 0:
         return
     zoff = 6 * R.dims[0] + 13 * R.dims[1]
     for i in range(zoff, zoff + R.dims[2]):  # the line states after them are not radiation memory
         y[i] = 0.0
-    fw = W.fw
+    fw = FW
     if F.jt_child.size > 0:
-        _project_joints(y, R, W)
+        _project_joints(y, R, W, F, FW)
     # the history starts at the first sample time at or after t (the velocity before counts as 0)
     k = int(math.ceil(t / F.par[0] - 1e-9))
     fw.hctl[0] = k

@@ -143,24 +143,24 @@ def _axpy(out, y, h, k):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch;
     for the implicit schemes ``S[3]`` keeps the derivative of the previous step (zero at the
     start), ``sp`` = [c, M, c0, c1] (spec 5.2)."""
     if scheme == 3:
-        _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+        _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         return
     if scheme >= 5:
         if scheme == 5:
-            heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+            heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         elif scheme == 6:
-            ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+            ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         elif scheme == 7:
-            leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+            leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         elif scheme == 8:
-            newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+            newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         else:
-            wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+            wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         return
     k1 = S[0]
     k2 = S[1]
@@ -169,30 +169,30 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     yt = S[4]
     # the stick-slip friction anchors are committed at the first stage of every step
     B.ctl[1] = 1
-    rhs(t, y, k1, L, R, P, E, B, Mo, W, cd_scale, piece)
+    rhs(t, y, k1, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     if scheme == 0:
         for i in range(y.size):
             y[i] += h * k1[i]
     elif scheme == 1:
         _axpy(yt, y, 0.5 * h, k1)
-        rhs(t + 0.5 * h, yt, k2, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + 0.5 * h, yt, k2, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         for i in range(y.size):
             y[i] += h * k2[i]
     else:
         _axpy(yt, y, 0.5 * h, k1)
-        rhs(t + 0.5 * h, yt, k2, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + 0.5 * h, yt, k2, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         _axpy(yt, y, 0.5 * h, k2)
-        rhs(t + 0.5 * h, yt, k3, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + 0.5 * h, yt, k3, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         _axpy(yt, y, h, k3)
-        rhs(t + h, yt, k4, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + h, yt, k4, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         c = h / 6.0
         for i in range(y.size):
             y[i] += c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's implicit Euler family: M fixed-point iterations of y* = y + c h f, f = f(t + c h, y*),
     relaxed between iterations with rho_m = c0 (1 - 1/M) + c1 (1 - (tanh(4 ((m+1)/M - 1/2)) + 1)/2),
     starting from the derivative of the previous step; then y += h f."""
@@ -208,7 +208,7 @@ def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     for m in range(M):
         _axpy(ys, y, c * h, f)
         B.ctl[1] = 1 if m == 0 else 0
-        rhs(t + c * h, ys, f, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + c * h, ys, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         if m < M - 1:
             rel = c0 * (1.0 - 1.0 / M) + c1 * (1.0 - 0.5 * (math.tanh(4.0 * ((m + 1.0) / M - 0.5)) + 1.0))
             for i in range(y.size):
@@ -269,7 +269,7 @@ def step_end(Mo, j, t, h, t_end, tol):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
+def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
     ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory
     piece) so that the Work arrays describe the state at ``t_end``.
@@ -291,13 +291,13 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vma
     while t_end - t > tol:
         h, j = knot_step(Mo, j, t, min(dtM, t_end - t), tol)
         piece = motion_piece(Mo, t + 0.5 * h)
-        step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+        step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         n_steps += 1
         t = step_end(Mo, j, t, h, t_end, tol)
-        floating_after_step(t, y, R, W)
+        floating_after_step(t, y, R, W, F, FW)
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             return t, bad, n_steps, piece
     if final_eval:
-        rhs(t, y, S[0], L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     return t, -1, n_steps, piece

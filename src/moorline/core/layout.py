@@ -135,7 +135,6 @@ class RigidArrays(NamedTuple):
     body_rCG: np.ndarray  # (nb, 3) CG in body axes [m]
     body_V: np.ndarray  # (nb,) volume [m^3]
     body_CdA: np.ndarray  # (nb, 6)
-    fl: object  # core.floating.FloatArrays: the floating bodies among them
 
 
 class PointArrays(NamedTuple):
@@ -252,7 +251,6 @@ class Work(NamedTuple):
     m33: np.ndarray  # (5, 3, 3)
     v6: np.ndarray  # (3, 6)
     dense: np.ndarray  # (6, 7) augmented matrix of the small dense solves
-    fw: object  # core.floating.FloatWork
     seg_s: np.ndarray  # (n_seg,) stretch state of viscoelastic segments used by the evaluation [m]
     seg_sdot: np.ndarray  # (n_seg,) its rate [m/s]
     phi: np.ndarray  # (n_nodes,) VIV lift phase [rad]
@@ -270,11 +268,13 @@ FC_DAMPING = 3  # extra linear and quadratic damping
 FC_MORISON = 4
 FC_PTO = 5
 FC_EXTRA = 6  # extra stiffness and constant load
-N_FC = 7
-FC_NAMES = ("excitation", "radiation", "hydrostatic", "damping", "morison", "pto", "extra")
+FC_MOORING = 7  # quasi-static mooring (linearised over a step), in the quasi-static mode only
+N_FC = 8
+FC_NAMES = ("excitation", "radiation", "hydrostatic", "damping", "morison", "pto", "extra", "quasistatic_mooring")
 
 # FloatArrays.ctl
 CTL_RADIATION = 0  # 0: state space, 1: convolution
+CTL_QS_MOORING = 1  # 1: the quasi-static mooring load ql_F - ql_K (pose - ql_x0) acts
 RAD_STATE_SPACE = 0
 RAD_CONVOLUTION = 1
 # ExcitationArrays.ctl[0]
@@ -325,8 +325,11 @@ class FloatArrays(NamedTuple):
     ms_d: np.ndarray  # (ns,)
     ms_Cd: np.ndarray  # (ns,)
     ms_n: np.ndarray  # int64 (ns,)
+    ql_F: np.ndarray  # (6 nf,): quasi-static mooring load at the pose ql_x0 [N, N m]
+    ql_K: np.ndarray  # (6 nf, 6 nf): its stiffness with respect to the pose (Euler angles) [N/m, N/rad, ...]
+    ql_x0: np.ndarray  # (6 nf,): the pose it was linearised about (x, y, z, roll, pitch, yaw, Rx Ry Rz)
     par: np.ndarray  # (2,): impulse-response sampling interval [s], joint pull-back rate [1/s]
-    ctl: np.ndarray  # int64 (1,): radiation method
+    ctl: np.ndarray  # int64 (2,): radiation method, quasi-static mooring on (1) or off (0)
 
 
 class ExcitationArrays(NamedTuple):
@@ -367,6 +370,8 @@ class FloatWork(NamedTuple):
     hpar: np.ndarray  # (1,): time of the last step end recorded [s]
     vlast: np.ndarray  # (6 nf,): velocities at that time
     jerr: np.ndarray  # (12,): a joint's position/rotation and velocity errors
+    qpose: np.ndarray  # (6 nf,): the poses of the floating bodies (quasi-static mooring)
+    eye3: np.ndarray  # (3, 3) identity
 
 
 def empty_float_arrays(n_bodies: int) -> FloatArrays:
@@ -377,7 +382,7 @@ def empty_float_arrays(n_bodies: int) -> FloatArrays:
                        z((0, 6, 6)), z((0, 6)), z((0, 3)), z((0, 3, 3)), z((0, 6, 6)), z((0, 6, 6)), z((0, 6, 6)),
                        z((0, 6)), z((0, 0)), zi, zi, np.zeros(1, dtype=np.int64), z((0, 1)), z(0), z(0), z((0, 0, 0)),
                        zi, zi, zi, z((0, 3)), z((0, 3)), z((0, 4)), z(0), z(0), z(0), zi, z((0, 3)), z((0, 3)), z(0),
-                       z(0), zi, np.array([1.0, 0.0]), np.zeros(1, dtype=np.int64))
+                       z(0), zi, z(0), z((0, 0)), z(0), np.array([1.0, 0.0]), np.zeros(2, dtype=np.int64))
 
 
 def no_excitation(n_dof: int) -> ExcitationArrays:
@@ -397,7 +402,7 @@ def new_float_work(F: FloatArrays) -> FloatWork:
     return FloatWork(z((nf, N_FC, 6)), z((nf, 6)), z(nd), z((nd, nd)), z(nd), z((nd, nd)), z(nd), z((nd, nd)),
                      z((nd, nd)), z(nd), z(nd), z((max(nd, 1), nd + 1)), z((nj, 3)), z(8), z((2, 3, 3)),
                      z((nz, mo)), np.zeros(nz, dtype=np.int64), z(F.ss_i.size), z(mo), z((F.irf.shape[0], nd)),
-                     np.zeros(2, dtype=np.int64), z(1), z(nd), z(12))
+                     np.zeros(2, dtype=np.int64), z(1), z(nd), z(12), z(nd), np.eye(3))
 
 
 
@@ -432,6 +437,9 @@ class Layout:
     coupled_rods: list
     coupled_bodies: list
     env_ic: EnvArrays  # env with the water kinematics of the initial-condition solve (waves off)
+    #: the floating bodies (their own arguments of the kernels, so that the rigid-body and work
+    #: tuples every kernel receives stay small: numba passes a tuple's arrays field by field)
+    fl: FloatArrays = None
 
     @property
     def n_state(self) -> int:
@@ -490,8 +498,11 @@ class Layout:
                     bv=z((nb, 3)), bw=z((nb, 3)), bU=z((nb, 3)), fk=z((max(nn, nrn, npnt, nb, 1), 8)),
                     b6F=z((nb, 6)), b6M=z((nb, 6, 6)), bacc=z((nb, 6)), pr=z((npnt, 3)), pv=z((npnt, 3)),
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
-                    ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)), fw=new_float_work(R.fl),
-                    seg_s=z(ns), seg_sdot=z(ns), phi=z(nn), dphi=z(nn), Flift=z((nn, 3)), acc_old=z((nn, 3)))
+                    ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)), seg_s=z(ns), seg_sdot=z(ns),
+                    phi=z(nn), dphi=z(nn), Flift=z((nn, 3)), acc_old=z((nn, 3)))
+
+    def new_float_work(self) -> FloatWork:
+        return new_float_work(self.fl)
 
 
 def effective_depth(model: Model) -> float:
@@ -651,7 +662,7 @@ def build_layout(model: Model, floating=None) -> Layout:
         fl, exc = floating
         fl = _place_floating(fl, row, nblk, body_blk)
     rigid = _rigid_arrays(model, np.array([row, nblk, fl.ss_B.size, nx], dtype=np.int64), rod_blk, rod_row,
-                          rod_cpl, body_blk, body_cpl, fl)
+                          rod_cpl, body_blk, body_cpl)
     e = model.env
     muT, muA, mc, cv = e.friction_coefficients()
     fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
@@ -670,7 +681,7 @@ def build_layout(model: Model, floating=None) -> Layout:
     seabed = Seabed(*grid, np.zeros((nn, 3)), np.zeros((nn, 2)), np.zeros(3, dtype=np.int64))
     return Layout(lines, rigid, points, env, seabed, row, nblk, off, N, line_L,
                   [ln.line_type for ln in model.lines], model.coupled_points, model.coupled_rods, model.coupled_bodies,
-                  env._replace(water=water_ic, exc=no_excitation(exc.Xr.shape[1])))
+                  env._replace(water=water_ic, exc=no_excitation(exc.Xr.shape[1])), fl)
 
 
 def _line_state_arrays(model: Model, node_ptr, seg_ptr) -> tuple[tuple, int]:
@@ -825,7 +836,7 @@ def _place_floating(fl: FloatArrays, n3: int, n6: int, body_blk) -> FloatArrays:
     return fl._replace(dof_y=dof_y)
 
 
-def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_cpl, fl) -> RigidArrays:
+def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_cpl) -> RigidArrays:
     nr = len(model.rods)
     nb = len(model.bodies)
     f = np.zeros
@@ -865,7 +876,6 @@ def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_
         body_V=np.array([b.V if k else 0.0 for b, k in zip(bodies, keep, strict=True)], dtype=float),
         body_CdA=np.array([b.CdA if k else np.zeros(6) for b, k in zip(bodies, keep, strict=True)],
                           dtype=float).reshape(nb, 6),
-        fl=fl,
     )
 
 

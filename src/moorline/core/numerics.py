@@ -203,3 +203,60 @@ def matvec3(Rm, x, y, z):
     """Rm (x, y, z) for a 3x3 matrix Rm."""
     return (Rm[0, 0] * x + Rm[0, 1] * y + Rm[0, 2] * z, Rm[1, 0] * x + Rm[1, 1] * y + Rm[1, 2] * z,
             Rm[2, 0] * x + Rm[2, 1] * y + Rm[2, 2] * z)
+
+
+@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+def quat_mul(aw, ax, ay, az, b, ob, out, oo):
+    """out[oo:oo+4] = (aw, ax, ay, az) (x) b[ob:ob+4], quaternions (w, x, y, z)."""
+    bw = b[ob]
+    bx = b[ob + 1]
+    by = b[ob + 2]
+    bz = b[ob + 3]
+    out[oo] = aw * bw - ax * bx - ay * by - az * bz
+    out[oo + 1] = aw * bx + ax * bw + ay * bz - az * by
+    out[oo + 2] = aw * by - ax * bz + ay * bw + az * bx
+    out[oo + 3] = aw * bz + ax * by - ay * bx + az * bw
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def lu_factor(M, o, n, piv):
+    """In-place LU factors with partial pivoting of the n x n matrix in rows o..o+n-1, columns
+    0..n-1 of M (the row swaps in piv[o:o+n]). Returns False if a pivot is zero."""
+    for c in range(n):
+        q = c
+        big = abs(M[o + c, c])
+        for r in range(c + 1, n):
+            if abs(M[o + r, c]) > big:
+                big = abs(M[o + r, c])
+                q = r
+        piv[o + c] = q
+        if not big > 0.0:
+            return False
+        if q != c:
+            for k in range(n):
+                tmp = M[o + c, k]
+                M[o + c, k] = M[o + q, k]
+                M[o + q, k] = tmp
+        for r in range(c + 1, n):
+            M[o + r, c] /= M[o + c, c]
+            for k in range(c + 1, n):
+                M[o + r, k] -= M[o + r, c] * M[o + c, k]
+    return True
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def lu_solve(M, o, n, piv, b):
+    """Solve in place (b[0:n]) with the factors of :func:`lu_factor` in rows o..o+n-1 of M."""
+    for c in range(n):
+        q = piv[o + c]
+        if q != c:
+            tmp = b[c]
+            b[c] = b[q]
+            b[q] = tmp
+        for r in range(c + 1, n):
+            b[r] -= M[o + r, c] * b[c]
+    for r in range(n - 1, -1, -1):
+        s = b[r]
+        for c in range(r + 1, n):
+            s -= M[o + r, c] * b[c]
+        b[r] = s / M[o + r, r]

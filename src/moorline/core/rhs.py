@@ -223,7 +223,7 @@ def _any_viv(L):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
+def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
     Parameters
@@ -233,6 +233,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
     y, dy : ndarray (n_state,)
         State ``[q | u]`` and its derivative ``[u | a]``.
     L, R, P, E, B, Mo, W : LineArrays, RigidArrays, PointArrays, EnvArrays, Seabed, Motion, Work
+    F, FW : FloatArrays, FloatWork (the floating bodies; empty arrays when nothing floats)
     cd_scale : float
         Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
     piece : int
@@ -256,7 +257,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
     pF = W.pF
     pM = W.pM
     pa = W.pa
-    F = W.F
+    Fn = W.F
     mass = W.mass
     q = W.q
     acc = W.acc
@@ -287,13 +288,13 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
             if end_kind[li, j] == ATT_POINT:
                 p = end_idx[li, j]
                 for c in range(3):
-                    pF[p, c] += F[n, c]
+                    pF[p, c] += Fn[n, c]
                 add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
             else:
                 k = end_idx[li, j]
                 e = 0 if end_kind[li, j] == ATT_ROD_A else 1
                 for c in range(3):
-                    rodF[k, e, c] += F[n, c]
+                    rodF[k, e, c] += Fn[n, c]
                     # the bending moment of a clamped cable end acts on the rod (zero when pinned)
                     rodMext[k, c] += end_moment[li, j, c]
                 add_end_mass(rodEM, 2 * k + e, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
@@ -321,7 +322,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
         if nrod > 0:
             rod_loads(R, E, B, W, cd_scale)
         rigid_dynamics(y, dy, R, P, E, W)
-        if R.fl.body.size > 0:
-            floating_loads(t, y, dy, R, E, W)
-            floating_motion(R, W)
-        body_motion(y, dy, R, W)
+        if F.body.size > 0:
+            floating_loads(t, y, dy, R, E, W, F, FW)
+            floating_motion(R, W, F, FW)
+        body_motion(y, dy, R, W, F)

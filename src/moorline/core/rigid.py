@@ -801,7 +801,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def body_motion(y, dy, R, W):
+def body_motion(y, dy, R, W, F):
     """Body equations of motion from W.b6F and W.b6M: accelerations of free and coupled-pinned
     bodies (floating bodies solved with their group are already in W.bacc), their state
     derivatives, and the load returned for coupled bodies (F6 - M a_in)."""
@@ -812,7 +812,7 @@ def body_motion(y, dy, R, W):
     rhs3 = W.v6[0]
     x3 = W.v6[1]
     dense = W.dense
-    fl = R.fl
+    fl = F
     for i in range(R.body_kind.size):
         kind = R.body_kind[i]
         F6 = W.b6F[i]

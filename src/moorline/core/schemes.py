@@ -43,13 +43,13 @@ def relax_factor(m, M, c0, c1):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     f_old = S[3]
     f = S[0]
     for i in range(y.size):
         y[i] += h * f_old[i]
     B.ctl[1] = 1
-    rhs(t, y, f, L, R, P, E, B, Mo, W, cd_scale, piece)
+    rhs(t, y, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     for i in range(y.size):
         y[i] += 0.5 * h * (f[i] - f_old[i])
@@ -57,7 +57,7 @@ def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     # the past derivatives live in S[1..3] (newest first), the new one in S[4]: S[0] is the time
     # loop's scratch for its final evaluation
     order = int(sp[SP_ORDER])
@@ -67,7 +67,7 @@ def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     f2 = S[2]
     f3 = S[3]
     B.ctl[1] = 1
-    rhs(t, y, f0, L, R, P, E, B, Mo, W, cd_scale, piece)
+    rhs(t, y, f0, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     if n == 0:
         for i in range(y.size):
@@ -110,7 +110,7 @@ def _copy_line_rows(src, dst, li, L, R):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """Local-time-step Euler: a line whose interval has not elapsed is not evaluated; it reuses its
     last derivative and its last end loads."""
     f = S[0]
@@ -127,7 +127,7 @@ def leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
             sp[SP_LINES + nl + li] = acc
             L.calc[li] = 0
     B.ctl[1] = 1
-    rhs(t, y, f, L, R, P, E, B, Mo, W, cd_scale, piece)
+    rhs(t, y, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     for li in range(nl):
         if L.calc[li] != 0:
@@ -184,7 +184,7 @@ def _newmark_state(y0, d0, d1, out, R, mult, P, pa, pb, qa, qb):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's ACA<M>: Newmark (gamma, beta) with M relaxed fixed-point iterations on the
     derivative at the end of the step; the last iterate's derivative is kept for the next step."""
     M = int(sp[1])
@@ -202,7 +202,7 @@ def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     for m in range(M):
         _newmark_state(y, d0, d1, y1, R, h, h, 0.5 - beta, beta, 1.0 - gamma, gamma)
         B.ctl[1] = 1 if m == 0 else 0
-        rhs(t + h, y1, d1, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + h, y1, d1, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         if m < M - 1:
             rel = relax_factor(m, M, c0, c1)
             for i in range(y.size):
@@ -216,7 +216,7 @@ def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's Wilson<M> (theta = sp[6]): M relaxed fixed-point iterations at t + theta h (which,
     as in MoorDyn, relax the start derivative itself), then the state brought back to t + h."""
     M = int(sp[1])
@@ -232,7 +232,7 @@ def wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     for m in range(M):
         _newmark_state(y, d0, d1, y1, R, tdt, 0.5 * tdt, 2.0 / 3.0, 1.0 / 3.0, 0.5, 0.5)
         B.ctl[1] = 1 if m == 0 else 0
-        rhs(t + tdt, y1, d1, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + tdt, y1, d1, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         if m < M - 1:
             rel = relax_factor(m, M, c0, c1)
             for i in range(y.size):

@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from .integrate import advance
-from .jacobian import S_NJAC, S_NRHS, assemble, band_lu, displace, fd_steps, shift_colour, solve_increment
+from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
 from .rhs import rhs
 
 
@@ -62,7 +62,7 @@ def _move_along(y, dy, n3, n6, h):
 
 
 @njit(cache=True, error_model="numpy")
-def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E, B, Mo, W, S):
+def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E, B, Mo, W, F, FW, S):
     """MoorDyn's stationary initial-condition solver (spec 6.3): pseudo-time steps along the
     accelerations with all velocities held at zero (6-DOF objects also turn along their angular
     accelerations).
@@ -97,7 +97,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
     next_check = dtIC
     it = 0
     while True:
-        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, 1.0, -1)
+        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
         e = _accel_norm_sum(dy, n3, n6)
         if e0 < 0.0:
             e0 = e
@@ -105,7 +105,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
             b /= 1.01
             for i in range(uoff):
                 y[i] = 0.5 * (y[i] + qprev[i])
-            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, 1.0, -1)
+            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
             e = _accel_norm_sum(dy, n3, n6)
         else:
             b *= 1.01
@@ -145,7 +145,7 @@ def _fairlead_tensions(L, W, out):
 
 
 @njit(cache=True, error_model="numpy")
-def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, S, vmax):
+def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, F, FW, S, vmax):
     """MoorDyn's legacy initial-condition solver (spec 6.4): integrate with drag scaled by
     ``cd_scale`` until the end-B tension of every line changes by less than ``threshIC``
     (relative) over ten samples ``dtIC/10`` apart.
@@ -161,7 +161,7 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
         # final_eval: the Work arrays then hold the loads of the state at t1
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, True)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax, True)
         if bad >= 0:
             return False, t, bad
         _fairlead_tensions(L, W, ten)
@@ -185,7 +185,7 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
 
 # ---------------------------------------------------------------------------------------------- Newton statics
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
+def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
     """J = diag I - df/dx at the positions IW.y0 (zero velocities), factored. IW.f0 must hold the
     derivative at IW.y0. Returns the LU status."""
     n3 = R.dims[0]
@@ -193,7 +193,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
     uoff = 3 * n3 + 7 * n6
     nd = IW.a1.size
     fd_steps(IW, n3, n6, 1e-7, 1.0)
-    IW.AB[:, :] = 0.0
+    clear(IW)
     nc = A.col_ptr.size - 1
     kmax = 6 if n6 > 0 else 3
     dq = IW.da
@@ -206,22 +206,22 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
             for i in range(y.size):
                 y[i] = IW.y0[i]
             displace(IW.y0, dq, y, n3, n6, 1.0)
-            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, 1.0, -1)
+            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
             IW.stat[S_NRHS] += 1
             assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
     IW.stat[S_NJAC] += 1
     for i in range(y.size):
         y[i] = IW.y0[i]
-    return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
+    return factor(A, IW)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6):
+def _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6):
     """f at the positions of ``y`` with zero velocities into IW.f0; returns (max |acc|, L2 norm)."""
     uoff = 3 * n3 + 7 * n6
     for i in range(uoff, y.size):
         y[i] = 0.0
-    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, 1.0, -1)
+    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
     IW.stat[S_NRHS] += 1
     big = 0.0
     s = 0.0
@@ -235,7 +235,7 @@ def _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_iter):
+def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter):
     """Static equilibrium by pseudo-transient continuation of Newton's method: each iteration
     solves (I / tau^2 - df/dx) dx = f(x) at zero velocities, with tau^2 grown by the ratio of
     successive residual norms (switched evolution relaxation) so the iterations start as heavily
@@ -255,7 +255,7 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
     n6 = R.dims[1]
     nd = IW.a1.size
     tau2 = tau0 * tau0
-    big, nrm = _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
+    big, nrm = _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
     if not np.isfinite(nrm):
         return -1, 0, big
     dxmax = np.inf
@@ -266,7 +266,7 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
         for i in range(y.size):
             IW.y0[i] = y[i]
         # IW.f0 holds f at y0
-        if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, 1.0 / tau2) != 0:
+        if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, 1.0 / tau2) != 0:
             return -1, it, big
         while True:
             solve_increment(A, IW)
@@ -277,7 +277,7 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
                 if d > dxmax:
                     dxmax = d
             displace(IW.y0, IW.da, y, n3, n6, 1.0)
-            big1, nrm1 = _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
+            big1, nrm1 = _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
             if np.isfinite(nrm1) and (nrm1 <= 2.0 * nrm or tau2 < 1e-12):
                 break
             # reject: back to y0 with a smaller pseudo step
@@ -286,8 +286,8 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
             tau2 *= 0.25
             if it >= max_iter:
                 return 0, it, big
-            _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
-            if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, 1.0 / tau2) != 0:
+            _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
+            if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, 1.0 / tau2) != 0:
                 return -1, it, big
         if not np.isfinite(nrm1):
             return -1, it, big1

@@ -424,9 +424,15 @@ def fit_state_space(source, *, t=None, rtol: float = 0.002, max_order: int = 24,
             if best is None:
                 raise RuntimeError(f"no stable realisation found for pair ({dofs[i]}, {dofs[j]})")
             if best.error > rtol:
-                log.warning("fit_state_space: pair (%s, %s) reached error %.3g > rtol %.3g at order %d",
-                            dofs[i], dofs[j], best.error, rtol, best.order)
+                log.debug("fit_state_space: pair (%s, %s) reached error %.3g > rtol %.3g at order %d",
+                          dofs[i], dofs[j], best.error, rtol, best.order)
             pairs.append(best)
+    missed = [p for p in pairs if p.error > rtol]
+    if missed:
+        worst = max(missed, key=lambda p: p.error)
+        log.warning("fit_state_space: %d of %d pairs did not reach rtol %.3g by order %d (worst: (%s, %s), error "
+                    "%.3g); the summary() of the fit lists them", len(missed), len(pairs), rtol, max_order,
+                    dofs[worst.i], dofs[worst.j], worst.error)
     fit = StateSpaceFit(pairs, dofs, a_inf, t, dt_f, rtol, skipped)
     rep = fit.passivity()
     if not rep.passive and enforce_passivity:

@@ -88,7 +88,7 @@ SCHEMA = {
               "ramp": ("number", "[s]"), "phase": ("number", "[rad]")},
     "current": {"speed": ("number", "[m/s]"), "heading": ("number", "[deg]")},
     "run": {"duration": ("number", "[s]"), "dt_out": ("number", "[s]"), "scheme": ("str", "tScheme"),
-            "dtM": ("number", "[s]")},
+            "dtM": ("number", "[s]"), "mooring": ("str", "dynamic or quasistatic")},
 }
 
 
@@ -385,6 +385,10 @@ def read_system_file(path) -> SystemFile:
             out[key] = r.number(run[key], f"run.{key}", positive=True)
     if "scheme" in run:
         out["scheme"] = str(run["scheme"])
+    if "mooring" in run:
+        if run["mooring"] not in ("dynamic", "quasistatic"):
+            raise r.error("run.mooring", f"expected dynamic or quasistatic, got {run['mooring']!r}")
+        out["mooring"] = run["mooring"]
     try:
         model.validate()
     except ModelError as e:

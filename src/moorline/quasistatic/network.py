@@ -36,6 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..core.numerics import euler_R
 from .line2d import LINE2D_SIZE, O_D, O_H, O_HL, O_KTL, O_KTU, O_LB, O_V, O_VL, QS_BELOW_SEABED, upright_line
 
 # line float table columns
@@ -76,23 +77,6 @@ NET_SINGULAR = 2
 NET_LINE_FAILED = 3
 _NWATCH = 3  # extra Newton steps tried from a full step that raised the merit
 _FLOOR = 100.0  # a residual below this times the tolerance that no step lowers is round-off: converged
-
-
-@njit(cache=True, error_model="numpy")
-def rot_xyz(roll, pitch, yaw, R):
-    """Fill ``R`` (3, 3) with Rx(roll) Ry(pitch) Rz(yaw) [rad]."""
-    cr, sr = math.cos(roll), math.sin(roll)
-    cp, sp = math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    R[0, 0] = cp * cy
-    R[0, 1] = -cp * sy
-    R[0, 2] = sp
-    R[1, 0] = cr * sy + sr * sp * cy
-    R[1, 1] = cr * cy - sr * sp * sy
-    R[1, 2] = -sr * cp
-    R[2, 0] = sr * sy - cr * sp * cy
-    R[2, 1] = sr * cy + cr * sp * sy
-    R[2, 2] = cr * cp
 
 
 @njit(cache=True, error_model="numpy")
@@ -496,7 +480,7 @@ def set_coupled(xc, nu, pf, pi, bf, bi):
                 bf[b, BF_R + i] = xc[k - nu]
         k = bi[b, 4]
         if k >= nu:
-            rot_xyz(xc[k - nu], xc[bi[b, 5] - nu], xc[bi[b, 6] - nu], R)
+            euler_R(xc[k - nu], xc[bi[b, 5] - nu], xc[bi[b, 6] - nu], R)
             for i in range(3):
                 for j in range(3):
                     bf[b, BF_ROT + 3 * i + j] = R[i, j]

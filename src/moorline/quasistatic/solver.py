@@ -305,6 +305,11 @@ class QuasiStaticModel:
                     self.rotdof[self.bi[b, j]] = True
 
     @property
+    def coupled_bodies(self) -> list[int]:
+        """0-based indices of the bodies whose DOFs are given (in the order of ``x``)."""
+        return list(self._coupled_bodies)
+
+    @property
     def n_coupled_dof(self) -> int:
         """Number of coupled DOFs (length of the ``x`` of :meth:`solve`)."""
         return self.nz - self.nu

@@ -340,8 +340,9 @@ class _Builder:
             ms_rB=np.array([s.rB for _, s in strips], dtype=float).reshape(ns, 3),
             ms_d=np.array([s.d for _, s in strips], dtype=float),
             ms_Cd=np.array([s.Cd for _, s in strips], dtype=float),
-            ms_n=np.array([s.n for _, s in strips], dtype=np.int64), par=np.array([self.irf_dt, 0.0]),
-            ctl=np.array([RAD_CONVOLUTION if self.method == "convolution" else RAD_STATE_SPACE], dtype=np.int64))
+            ms_n=np.array([s.n for _, s in strips], dtype=np.int64), ql_F=np.zeros(6 * nf),
+            ql_K=np.zeros((6 * nf, 6 * nf)), ql_x0=np.zeros(6 * nf), par=np.array([self.irf_dt, 0.0]),
+            ctl=np.array([RAD_CONVOLUTION if self.method == "convolution" else RAD_STATE_SPACE, 0], dtype=np.int64))
 
     def excitation_arrays(self, waves: Waves | None) -> ExcitationArrays:
         nd = 6 * self.nf

@@ -198,8 +198,8 @@ def solve_initial_conditions(sys: System) -> None:
         if static and L.xs_s0.size > 0:
             # the line states at rest in the final positions (and the Syrope history there)
             dy = sys._S[0]
-            L_, R, P, _, B, W = sys._kernel_arrays()
-            rhs(0.0, sys.y, dy, L_, R, P, sys.layout.env_ic, B, sys._motion, W, 1.0, -1)
+            L_, R, P, _, B, W, F, FW = sys._kernel_arrays()
+            rhs(0.0, sys.y, dy, L_, R, P, sys.layout.env_ic, B, sys._motion, W, F, FW, 1.0, -1)
             store_line_states(sys.y, L, R, W, 0.0, True)
         end_line_states(L)
         L.xs_ctl[XC_VIV] = 1.0
@@ -228,10 +228,10 @@ def report_residual(sys: System) -> float:
     y = sys.y.copy()
     y[lay.u_offset:lay.z_offset] = 0.0
     dy = np.zeros_like(y)
-    L, R, P, _, B, W = sys._kernel_arrays()
+    L, R, P, _, B, W, F, FW = sys._kernel_arrays()
     hist = L.xs_ctl[XC_HIST]
     L.xs_ctl[XC_HIST] = 0.0
-    rhs(0.0, y, dy, L, R, P, lay.env_ic, B, sys._motion, W, 1.0, -1)
+    rhs(0.0, y, dy, L, R, P, lay.env_ic, B, sys._motion, W, F, FW, 1.0, -1)
     L.xs_ctl[XC_HIST] = hist
     uo = lay.u_offset
     acc = dy[uo:uo + 3 * n3].reshape(-1, 3)
@@ -252,11 +252,11 @@ def report_residual(sys: System) -> float:
 
 def _solve_initial_conditions(sys: System) -> None:
     opts = sys.model.options
-    L, R, P, _, B, W = sys._kernel_arrays()
+    L, R, P, _, B, W, F, FW = sys._kernel_arrays()
     E = sys.layout.env_ic  # waves off, current on (spec 6.1)
     # Newton when asked for, and by default with the implicit scheme or floating bodies (a hull on its
     # hydrostatics is a stiff, lightly damped system that MoorDyn's pseudo-dynamics settle slowly)
-    if _newton_first(sys) and newton_ic(sys, L, R, P, E, B, W):
+    if _newton_first(sys) and newton_ic(sys, L, R, P, E, B, W, F, FW):
         return
     if opts.ICgenDynamic:
         L.xs_ctl[XC_MODE] = MODE_RATE  # dynamic relaxation integrates the line states
@@ -268,7 +268,7 @@ def _solve_initial_conditions(sys: System) -> None:
     if opts.ICgenDynamic:
         ok, tic, bad = dynamic_relaxation(sys.y, sys.dtM, int(sys.scheme), sys.scheme_params, opts.dtIC,
                                           opts.TmaxIC, opts.threshIC, opts.CdScaleIC, L, R, P, E, B,
-                                          sys._motion, W, sys._S, MAX_NODE_SPEED)
+                                          sys._motion, W, F, FW, sys._S, MAX_NODE_SPEED)
         if bad >= 0:
             raise sys._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
         sys.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))
@@ -276,7 +276,7 @@ def _solve_initial_conditions(sys: System) -> None:
         seg_min = float(np.min(L.seg_l0)) if L.seg_l0.size else 1.0
         cfl_ic = min(float(opts.CFL), 1.0)
         status, tic, emean, it = stationary_solve(sys.y, sys.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
-                                                  cfl_ic, seg_min, L, R, P, E, B, sys._motion, W, sys._S)
+                                                  cfl_ic, seg_min, L, R, P, E, B, sys._motion, W, F, FW, sys._S)
         if status < 0 or not np.all(np.isfinite(sys.y)):
             raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
                                   "try ICgenDynamic 1 or a smaller dtM", time=0.0)
@@ -297,7 +297,7 @@ def _solve_initial_conditions(sys: System) -> None:
                     "start from the last iterate", rep["method"], opts.TmaxIC)
 
 
-def newton_ic(sys: System, L, R, P, E, B, W) -> bool:
+def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     """Static equilibrium by Newton's method (pseudo-transient continuation from the catenary
     start); when that does not converge quickly (a slack, flexible system far from the start,
     such as a lazy-wave cable), implicit dynamic relaxation (generalized-alpha with maximal
@@ -308,13 +308,13 @@ def newton_ic(sys: System, L, R, P, E, B, W) -> bool:
     y_start = sys.y.copy()
     t0 = time.perf_counter()
     sink_into_seabed(sys, E)
-    status, it, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, float(opts.dtIC),
+    status, it, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW, float(opts.dtIC),
                                        NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_FIRST_IT)
     relax = 0.0
     if status != 1:
         sys.y[:] = y_start
-        relax = implicit_relaxation(sys, A, IW, L, R, P, E, B, W)
-        status, it2, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, float(opts.dtIC),
+        relax = implicit_relaxation(sys, A, IW, L, R, P, E, B, W, F, FW)
+        status, it2, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW, float(opts.dtIC),
                                             NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_MAX_IT)
         it += it2
     wall = time.perf_counter() - t0
@@ -355,7 +355,7 @@ def sink_into_seabed(sys: System, E) -> None:
                 sys.y[k + 2] = zb - pen
 
 
-def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W) -> float:
+def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
     """Implicit dynamic relaxation towards equilibrium (see :func:`newton_ic`): until the line
     end tensions change by less than threshIC (relative) over dtIC, or TmaxIC. Returns the
     pseudo time [s]."""
@@ -375,7 +375,7 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W) -> float:
     try:
         while t < opts.TmaxIC:
             t_next = t + float(opts.dtIC)
-            t, status, row, _ = advance_implicit(sys.y, t, t_next, h, A, IW, L, R, P, E, B, sys._motion, W,
+            t, status, row, _ = advance_implicit(sys.y, t, t_next, h, A, IW, L, R, P, E, B, sys._motion, W, F, FW,
                                                  MAX_NODE_SPEED, True)
             if status != 0:
                 break
@@ -388,3 +388,29 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W) -> float:
     uoff = sys.layout.u_offset
     sys.y[uoff:] = 0.0
     return t
+
+
+def quasistatic_equilibrium(sys: System, *, tol: float = 1e-7, max_outer: int = 50) -> None:
+    """Equilibrium of the floating bodies on quasi-static lines: Newton statics of the bodies with
+    the lines' load linearised at their pose, re-linearised until the poses change by less than
+    ``tol`` [m, rad]. Fills ``sys.ic_report``."""
+    L, R, P, _, B, W, F, FW = sys._kernel_arrays()
+    E = sys.layout.env_ic
+    last = None
+    outer = 0
+    for outer in range(1, max_outer + 1):
+        sys._evaluate()
+        sys._qsm.update(sys)
+        if not newton_ic(sys, L, R, P, E, B, W, F, FW):
+            break
+        sys._evaluate()
+        poses = np.concatenate([b.pose() for b in sys.bodies])
+        if last is not None and np.max(np.abs(poses - last)) < tol:
+            sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer)
+            log.info("initial conditions: floating bodies in equilibrium on quasi-static lines after %d "
+                     "linearisations", outer)
+            return
+        last = poses
+    sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer, converged=False)
+    raise SimulationError("the floating bodies found no equilibrium on the quasi-static lines (Newton statics of "
+                          f"the linearised loads did not settle in {outer} linearisations)", time=0.0)

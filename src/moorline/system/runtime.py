@@ -47,7 +47,14 @@ from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
 from .floating import JOINT_PULL, floating_arrays
-from .initial import MAX_NODE_SPEED, catenary_start, report_residual, solve_initial_conditions
+from .initial import (
+    MAX_NODE_SPEED,
+    catenary_start,
+    quasistatic_equilibrium,
+    report_residual,
+    solve_initial_conditions,
+)
+from .qsmooring import QuasiStaticMooring
 from .views import BodyView, LineView, PointView, RodView
 
 log = logging.getLogger("moorline")
@@ -78,12 +85,23 @@ class System:
     _STAGE_FIELDS = ("T", "Td", "seg_len", "seg_ldot", "F", "Fhyd", "Fbed", "W", "kurv", "pF", "pa")
 
     def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None,
-                 loads_at: str = "end"):
+                 loads_at: str = "end", mooring: str = "dynamic", qs_interval: float | None = None,
+                 qs_friction=0.0):
         if loads_at not in ("end", "last_stage"):
             raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
+        if mooring not in ("dynamic", "quasistatic"):
+            raise ValueError(f"mooring must be 'dynamic' or 'quasistatic', got {mooring!r}")
         self.loads_at = loads_at
+        self.mooring = mooring
+        self.full_model = model
+        self._qsm = None
+        if mooring == "quasistatic":
+            self._qsm = QuasiStaticMooring(model, seabed_friction=qs_friction)
+            model = self._qsm.dynamic_model(model)
         self.model = model
         self.layout = build_layout(model, floating=floating_arrays(model))
+        if self._qsm is not None:
+            self.layout.fl.ctl[1] = 1
         self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
             scheme if scheme is not None else model.options.tScheme)
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
@@ -100,10 +118,11 @@ class System:
             self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
             self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
         # a joint's child is pulled back onto its joint at 0.3 / dtM (see core.floating.floating_motion)
-        self.layout.rigid.fl.par[1] = JOINT_PULL / self.dtM
+        self.layout.fl.par[1] = JOINT_PULL / self.dtM
         # VIV refreshes its running RMS values once per time step (core.linestates)
         self.layout.lines.xs_ctl[XC_DTM] = self.dtM
         self.work = self.layout.new_work()
+        self.fwork = self.layout.new_float_work()
         n = self.layout.n_state
         self.y = np.zeros(n)
         self._S = np.zeros((5, n))
@@ -118,6 +137,8 @@ class System:
         self.initialized = False
         self._grid_warned = False
         self.ic_report: dict = {}
+        #: quasi-static mode: the lines are re-solved and re-linearised every qs_interval [s]
+        self.qs_interval = float(qs_interval) if qs_interval is not None else max(self.dtM, 0.02)
 
     @classmethod
     def from_file(cls, path, **kwargs) -> System:
@@ -173,22 +194,23 @@ class System:
 
     # ------------------------------------------------------------------ evaluation
     def _kernel_arrays(self):
-        """(lines, rods, points, env, seabed, work): what every kernel call takes."""
+        """(lines, rods, points, env, seabed, work, floating, floating work): what every kernel
+        call takes."""
         lay = self.layout
-        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work
+        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work, lay.fl, self.fwork
 
     def _evaluate(self, piece: int = -1) -> None:
         """Evaluate every load at the current state and time (refreshes what the views report).
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
-        L, R, P, E, B, W = self._kernel_arrays()
+        L, R, P, E, B, W, F, FW = self._kernel_arrays()
         # an evaluation for the views is not a step: the line-state histories (Syrope, VIV) and the
         # accelerations VIV remembers are left as the last step left them
         hist = L.xs_ctl[XC_HIST]
         L.xs_ctl[XC_HIST] = 0.0
         viv = bool(np.any(L.viv[:, 0] > 0))
         acc = W.acc.copy() if viv else None
-        rhs(self.t, self.y, self._dy_eval, L, R, P, E, B, self._motion, W, 1.0, piece)
+        rhs(self.t, self.y, self._dy_eval, L, R, P, E, B, self._motion, W, F, FW, 1.0, piece)
         L.xs_ctl[XC_HIST] = hist
         if viv:
             W.acc[...] = acc  # VIV's "previous evaluation" stays the last one of the step
@@ -239,13 +261,18 @@ class System:
                         CatenaryStatus(status).name.lower())
         self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
-        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks + self.layout.n_line_states > 0:
+        if self._qsm is not None:
+            self._evaluate()
+            self._qsm.update(self)
+            if solve_ic:
+                quasistatic_equilibrium(self)
+        elif solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks + self.layout.n_line_states > 0:
             solve_initial_conditions(self)
             report_residual(self)
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
-        floating_restart(0.0, self.y, self.layout.rigid, self.work)
+        floating_restart(0.0, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         self._evaluate()
         # friction springs start relaxed at the initial position of every node
@@ -343,13 +370,29 @@ class System:
                 "colours": int(A.col_ptr.size - 1), "bandwidth": (int(A.band[0]), int(A.band[1]))}
 
     def _advance(self, motion: Motion, t_end: float) -> None:
+        if self._qsm is None:
+            self._advance_interval(motion, t_end)
+            return
+        # quasi-static lines: re-solved at the start of every interval, linearised over it
+        while t_end - self.t > 1e-9 * self.dtM:
+            self._qsm.update(self)
+            self._advance_interval(motion, min(t_end, self.t + self.qs_interval))
+
+    def line_end_tensions(self) -> np.ndarray:
+        """Tension at end A (anchor) and end B (fairlead) of every line [N], shape (n_lines, 2):
+        of the dynamic lines, or of the quasi-static ones at their last solve."""
+        if self._qsm is not None:
+            return self._qsm.tensions()
+        return np.array([[ln.anchor_tension(), ln.fairlead_tension()] for ln in self.lines]).reshape(-1, 2)
+
+    def _advance_interval(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
-        L, R, P, E, B, W = self._kernel_arrays()
+        L, R, P, E, B, W, F, FW = self._kernel_arrays()
         last_stage = self.loads_at == "last_stage"
         if self.scheme == Scheme.GENALPHA:
             A, IW = self._implicit()
             t, status, row, piece = advance_implicit(self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion,
-                                                     W, MAX_NODE_SPEED, True)
+                                                     W, F, FW, MAX_NODE_SPEED, True)
             self.t = t
             if status == 1:
                 raise self._instability(t, int(row), "")
@@ -358,7 +401,7 @@ class System:
             self._check_grid()
             return
         t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P,
-                                   E, B, motion, W, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
+                                   E, B, motion, W, F, FW, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
@@ -515,7 +558,7 @@ class System:
         self._restart()
 
     def _restart(self) -> None:
-        floating_restart(self.t, self.y, self.layout.rigid, self.work)
+        floating_restart(self.t, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         if self.initialized:
             self._evaluate()
