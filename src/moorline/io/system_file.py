@@ -63,6 +63,8 @@ SCHEMA = {
                       "capytaine": ("path", "Capytaine NetCDF file"),
                       "capytaine_run": ("map", "hulls to compute with Capytaine"),
                       "reference_points": ("list", "[m] where each body's coefficient reference sits"),
+                      "mean_poses": ("list", "[x, y, z (m), roll, pitch, yaw (deg)] per body: the pose the "
+                                     "hydrostatics are linearised about (default the deck pose)"),
                       "radiation": ("str", "state_space or convolution"),
                       "irf_duration": ("number", "[s]"), "irf_dt": ("number", "[s]"),
                       "ss_rtol": ("number", "[-]"), "ss_max_order": ("int", "[-]"),
@@ -311,6 +313,13 @@ def read_system_file(path) -> SystemFile:
         if "reference_points" in h:
             opts["reference_points"] = np.array([r.vector(p, 3, f"{where}.reference_points[{j}]")
                                                  for j, p in enumerate(h["reference_points"])])
+        if "mean_poses" in h:
+            if not isinstance(h["mean_poses"], list) or len(h["mean_poses"]) != len(bodies):
+                raise r.error(where + ".mean_poses", f"expected one pose per body ({len(bodies)}), got "
+                              f"{h['mean_poses']!r}")
+            poses = np.array([r.vector(p, 6, f"{where}.mean_poses[{j}]") for j, p in enumerate(h["mean_poses"])])
+            poses[:, 3:] = np.radians(poses[:, 3:])
+            opts["mean_poses"] = poses
         if "wamit_options" in h:
             opts["wamit_options"] = dict(h["wamit_options"])
         try:
