@@ -47,7 +47,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from .integrate import RHO_INF, check_state, knot_step, step_end
 from .jacobian import (
@@ -75,6 +74,7 @@ from .jacobian import (
     solve_increment,
     step_jacobian,
 )
+from .jit import kernel
 from .layout import Layout
 from .rhs import motion_eval, motion_piece, rhs
 
@@ -180,7 +180,7 @@ def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> Implicit
                         stat, z((2 * kl + ku + 1, max(ndof, 1))), z(ndof), z((3, A.cn_node.size, 8)))
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     """G = (1 - alpha_m) a1 + alpha_m a0 - (1 - alpha_f) f(t + h, x1, v1) - alpha_f fs; leaves y
     at the end-of-step state and its derivative in IW.f0."""
@@ -201,7 +201,7 @@ def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
         contact_terms(A, IW, E, B, W, par[2] * h * h * cf, par[3] * h * cf)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _norm2(v):
     s = 0.0
     for i in range(v.size):
@@ -209,7 +209,7 @@ def _norm2(v):
     return s
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit):
     """fs = f(t, y) (the U part), with the stick-slip anchors committed when ``commit``; remembers
     the coupled kinematics it was evaluated with."""
@@ -227,7 +227,7 @@ def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit):
         IW.ck[2, j] = W.ac[j]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _coupled_moved(IW, Mo, W, t, piece):
     """True when the coupled trajectory at ``t`` on ``piece`` is not where fs was evaluated (a
     knot with a velocity or acceleration jump, a new trajectory from the coupling). Evaluates the
@@ -246,7 +246,7 @@ def _coupled_moved(IW, Mo, W, t, piece):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     """One generalized-alpha step of length ``h`` in place. Returns 0 on convergence, 1 when the
     Newton iterations did not converge (``y`` then restored to the start of the step).
@@ -271,9 +271,9 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     if B.ctl[0] == 1:
         # stick-slip friction anchors are committed at the state at the start of the step (which
         # moves the friction forces: the derivative there is evaluated again)
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, True)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, np.bool_(True))
     elif _coupled_moved(IW, Mo, W, t, piece):
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, False)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, np.bool_(False))
     hp = IW.stat[S_HPREV]
     w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
@@ -389,7 +389,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     return 1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` with generalized-alpha steps of at most
     ``dtM``, never across a knot of the coupled trajectory.
@@ -409,7 +409,9 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
     stat = IW.stat
     if stat[S_AVALID] == 0.0:
         stat[S_HPREV] = 0.0
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, -1, False)
+        # typed constants: literal ones would make numba compile _start_derivative (and rhs) once
+        # more for their Literal types (about 4 s each)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, np.int64(-1), np.bool_(False))
         for i in range(nd):
             IW.a0[i] = IW.fs[i]
         stat[S_AVALID] = 1.0

@@ -25,8 +25,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from .jit import kernel
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
 from .rhs import rhs
 from .seabed import contact_slope, seabed_at
@@ -216,7 +216,7 @@ def colour_units(adj: list[set]) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------- banded LU
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def copy2(src, dst):
     """dst[:, :] = src (an array assignment would need numba's runtime, which these kernels run
     without)."""
@@ -225,7 +225,7 @@ def copy2(src, dst):
             dst[i, j] = src[i, j]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def band_lu(AB, n, kl, ku, piv):
     """LU factorization with partial pivoting of the banded matrix A (LAPACK dgbtrf storage:
     A[i, j] in AB[kl + ku + i - j, j], the first kl rows free for fill-in). Returns 0, or
@@ -264,7 +264,7 @@ def band_lu(AB, n, kl, ku, piv):
     return 0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def band_solve(AB, n, kl, ku, piv, b):
     """Solve A x = b in place with the factors of :func:`band_lu`."""
     kv = kl + ku
@@ -289,7 +289,7 @@ def band_solve(AB, n, kl, ku, piv, b):
 
 
 # ---------------------------------------------------------------------------------------------- state algebra
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _rotate_quat(q0, o0, tx, ty, tz, out, o):
     """out[o:o+4] = exp(theta) (x) q0[o0:o0+4], theta a rotation vector in global axes."""
     ang = math.sqrt(tx * tx + ty * ty + tz * tz)
@@ -311,7 +311,7 @@ def _rotate_quat(q0, o0, tx, ty, tz, out, o):
     out[o + 3] = rw * z + rx * y - ry * x + rz * w
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def displace(y0, dq, y, n3, n6, cq):
     """Positions of ``y`` = those of ``y0`` moved by ``cq * dq`` (U-space increments: metres,
     and rotation vectors in global axes for the orientations)."""
@@ -325,7 +325,7 @@ def displace(y0, dq, y, n3, n6, cq):
         _rotate_quat(y0, o + 3, cq * dq[d + 3], cq * dq[d + 4], cq * dq[d + 5], y, o + 3)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def newmark(y0, a0, a1, h, par, y1, n3, n6, G):
     """End-of-step state ``y1`` from (y0, a0, a1); ``G`` is scratch for the position increments."""
     beta = par[2]
@@ -338,7 +338,7 @@ def newmark(y0, a0, a1, h, par, y1, n3, n6, G):
     displace(y0, G, y1, n3, n6, 1.0)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def contact_terms(A, IW, E, B, W, cx, cv):
     """Seabed contact terms of the Jacobian at the state of the last derivative evaluation (W), into
     IW.cst[C_NOW]: each internal line node below the seabed adds s M^-1 n n^T to its diagonal block,
@@ -380,7 +380,7 @@ def contact_terms(A, IW, E, B, W, cx, cv):
         cst[C_NOW, m, 7] = s * math.sqrt(mx * mx + my * my + mz * mz)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def contact_moved(A, IW, tol, diag):
     """True when the contact term of a node changed since the factorization by more than ``tol``
     times its diagonal (``diag``: the inertia term 1 - alpha_m, plus the larger contact term)."""
@@ -393,7 +393,7 @@ def contact_moved(A, IW, tol, diag):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def refactor(A, IW):
     """Factor the finite-difference Jacobian with its contact terms moved from the iterate it was
     built at (C_FD) to the last evaluation (C_NOW). Returns the LU status."""
@@ -421,7 +421,7 @@ def refactor(A, IW):
     return band_lu(AB, IW.a1.size, A.band[0], A.band[1], IW.piv)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def assemble(A, IW, f0, f1, uoff, cu, k, diag, scale, eps):
     """Columns of colour (cu, component k) from the derivative difference f1 - f0:
     J[i, j] = diag [i == j] - scale (f1_i - f0_i) / eps_j, into the band storage."""
@@ -448,7 +448,7 @@ def assemble(A, IW, f0, f1, uoff, cu, k, diag, scale, eps):
                 AB[kv + pinv[row] - pc, pc] = val
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def fd_steps(IW, n3, n6, rel, div):
     """Finite-difference perturbation of each unknown into IW.eps: ``rel`` times the size of its
     coordinate at the start (at least 1; rotations 1), divided by ``div`` (the factor from the
@@ -463,7 +463,7 @@ def fd_steps(IW, n3, n6, rel, div):
             IW.eps[d + c] = rel * max(1.0, abs(IW.y0[o + c])) / div
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def shift_colour(A, cu, k, v, eps, sign):
     """v += sign * eps on the columns of colour (cu, component k); False if there are none."""
     any_col = False
@@ -476,7 +476,7 @@ def shift_colour(A, cu, k, v, eps, sign):
     return any_col
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     """Jacobian of the generalized-alpha residual with respect to a1 at the current iterate
     (IW.f0 must hold the derivative at the iterate), factored in place. Returns the LU status."""
@@ -514,7 +514,7 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def solve_increment(A, IW):
     """da = -J^{-1} G (through the banded order)."""
     nd = IW.G.size

@@ -16,8 +16,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from .jit import kernel
 from .layout import (
     ATT_POINT,
     ATT_ROD_A,
@@ -38,7 +38,7 @@ from .seabed import _ramp, seabed_at
 # ---------------------------------------------------------------------------------- small algebra
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def quat_to_R(y, o, Rm):
     """Rotation matrix of the quaternion ``y[o:o+4]`` (normalised here) into ``Rm`` (3, 3)."""
     w = y[o]
@@ -64,7 +64,7 @@ def quat_to_R(y, o, Rm):
     Rm[2, 2] = 1.0 - 2.0 * (x * x + yy * yy)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def quat_rate(y, o, wx, wy, wz, dy, od):
     """dQ/dt = 0.5 (0, omega) (x) Q for the quaternion ``y[o:o+4]``, omega in global axes."""
     w = y[o]
@@ -77,7 +77,7 @@ def quat_rate(y, o, wx, wy, wz, dy, od):
     dy[od + 3] = 0.5 * (wz * w + wx * yy - wy * x)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def euler_R(roll, pitch, yaw, Rm):
     """Rm = Rx(roll) Ry(pitch) Rz(yaw) (MoorDyn's coupling and deck convention)."""
     cr = math.cos(roll)
@@ -97,7 +97,7 @@ def euler_R(roll, pitch, yaw, Rm):
     Rm[2, 2] = cr * cp
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def solve_dense(A, b, x, n, a):
     """Solve the n x n system A x = b (Gaussian elimination with partial pivoting) without
     changing A or b, in the scratch ``a`` (at least n x (n + 1)). Returns False (x = NaN) if A is
@@ -135,7 +135,7 @@ def solve_dense(A, b, x, n, a):
     return True
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _skew(S, rx, ry, rz):
     """S a = r x a."""
     S[0, 0] = 0.0
@@ -149,14 +149,14 @@ def _skew(S, rx, ry, rz):
     S[2, 2] = 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def add_translated3(M6, M3, rx, ry, rz, S):
     """M6 += T^T [[M3, 0], [0, 0]] T for a point mass matrix M3 at offset r: the blocks
     [[M3, -M3 S], [S M3, -S M3 S]], S = S(r). ``S`` is (3, 3) scratch."""
     add_translated6(M6, M3, M3, M3, M3, 1, rx, ry, rz, S)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def add_translated6(Md, A, Bm, C, D, point_only, rx, ry, rz, S):
     """Md += T^T [[A, Bm], [C, D]] T, T = [[I, -S], [0, I]], S = S(r): a mass about a point offset
     by r moved to the parent's point. With ``point_only`` the blocks Bm, C, D are taken as zero
@@ -190,19 +190,19 @@ def add_translated6(Md, A, Bm, C, D, point_only, rx, ry, rz, S):
             Md[3 + i, 3 + j] += v
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _cross(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _matvec(Rm, x, y, z):
     """Rm (x, y, z) for a 3x3 matrix Rm."""
     return (Rm[0, 0] * x + Rm[0, 1] * y + Rm[0, 2] * z, Rm[1, 0] * x + Rm[1, 1] * y + Rm[1, 2] * z,
             Rm[2, 0] * x + Rm[2, 1] * y + Rm[2, 2] * z)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _pinned_rotation(M6, F6, acc, M3, rhs3, x3, dense):
     """Angular acceleration of an object whose reference point moves with the imposed
     acceleration ``acc[:3]``: alpha = M_rr^-1 (F_rot - M_rt a), written into ``acc[3:]``.
@@ -221,7 +221,7 @@ def _pinned_rotation(M6, F6, acc, M3, rhs3, x3, dense):
 # ---------------------------------------------------------------------------------- kinematics
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def body_kinematics(y, R, W):
     """Pose and velocity of every body from its kind: fixed (deck pose), coupled (the coupling
     input, Euler-angle rates taken as the angular velocity as MoorDyn does), coupled-pinned
@@ -265,7 +265,7 @@ def body_kinematics(y, R, W):
                 W.bw[i, c] = y[ou + 3 + c]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _on_body(b, rel_x, rel_y, rel_z, bR, br, bv, bw):
     """Global position and velocity of a point given in body ``b``'s axes."""
     gx, gy, gz = _matvec(bR[b], rel_x, rel_y, rel_z)
@@ -273,7 +273,7 @@ def _on_body(b, rel_x, rel_y, rel_z, bR, br, bv, bw):
     return br[b, 0] + gx, br[b, 1] + gy, br[b, 2] + gz, bv[b, 0] + cx, bv[b, 1] + cy, bv[b, 2] + cz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def rod_kinematics(y, R, W):
     """End-A position and velocity, axis and angular velocity of every rod (spec 3.14.4); the
     axis of a zero-length rod that takes it from its cables is set later by
@@ -344,7 +344,7 @@ def rod_kinematics(y, R, W):
         W.rodw[k, 2] = wz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def zero_length_axes(R, L, W):
     """Axis of the zero-length rods that take it from their cables (spec 3.14.4): the normalised
     sum over attached lines of sigma EI e_end / l_end, sigma = +1 for a line end B on rod end A or a
@@ -397,7 +397,7 @@ def zero_length_axes(R, L, W):
             W.rodq[k, 2] = sz / n
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def rod_nodes(R, W):
     """End B and the node positions and velocities of every rod from end A, axis and omega."""
     rodq = W.rodq
@@ -435,7 +435,7 @@ def rod_nodes(R, W):
             rodv[k, 1, c] = rn_v[nb, c]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def body_point_kinematics(P, W):
     """Position and velocity of the points fixed to bodies."""
     for p in range(P.kind.size):
@@ -457,7 +457,7 @@ def body_point_kinematics(P, W):
 # ---------------------------------------------------------------------------------- loads
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def rod_loads(R, E, B, W, cd_scale):
     """Node loads of every rod (spec 3.14.2, with end effects and partial submergence), the line
     end forces and masses at its end nodes, and the 6x6 sums about end A (spec 3.14.3) into
@@ -705,7 +705,7 @@ def rod_loads(R, E, B, W, cd_scale):
                 M6[3 + a, 3 + a] += Ic
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_):
     """Centripetal load on body b of a mass ``Mc`` (3x3) centred at c (global): force
     -Mc (omega x (omega x (c - r_b))) and its moment about the reference point."""
@@ -731,7 +731,7 @@ def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_):
     b6F[b, 5] += mz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _add_child_to_body(br, b6F, b6M, b, F6, M6, point_only, ax, ay, az, S):
     """Add a child's force/moment ``F6`` and mass about its point a (global) to body b. With
     ``point_only`` F6[3:] is ignored and only the 3x3 block M6[:3, :3] is used (a point mass)."""
@@ -752,7 +752,7 @@ def _add_child_to_body(br, b6F, b6M, b, F6, M6, point_only, ax, ay, az, S):
     add_translated6(b6M[b], M6[:3, :3], M6[:3, 3:], M6[3:, :3], M6[3:, 3:], point_only, rx, ry, rz, S)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _rod_inertial(k, R, W, Fe):
     """Fe = rod k's F6 plus its velocity-dependent inertial loads about end A: the centripetal
     force -M_i omega x (omega x r_i) of every node (and its moment), and the gyroscopic moment
@@ -804,7 +804,7 @@ def _rod_inertial(k, R, W, Fe):
         Fe[5] -= gz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def rigid_dynamics(y, dy, R, P, E, W):
     """After the line, point and rod loads: rod equations of motion (free, pinned) and what rods
     and points pass to their bodies; then body loads and equations of motion; writes the

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.features import features_of
 from ..core.implicit import advance_implicit, build_implicit, new_implicit_work
 from ..core.integrate import RHO_INF, Scheme, advance, parse_scheme
 from ..core.jacobian import (
@@ -35,6 +36,7 @@ from ..core.jacobian import (
     S_NSLOW,
     S_NSTEP,
 )
+from ..core.jit import compile_for
 from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
 from ..core.rhs import rhs
 from ..core.seabed import bed_damping_ramp, bed_spring_blend
@@ -91,6 +93,8 @@ class System:
             self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
             self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
         self.work = self.layout.new_work()
+        self._features_key = None
+        self._kernel_arrays()  # the scheme's features join the layout's (see core.features)
         n = self.layout.n_state
         self.y = np.zeros(n)
         self._S = np.zeros((5, n))
@@ -159,8 +163,16 @@ class System:
 
     # ------------------------------------------------------------------ evaluation
     def _kernel_arrays(self):
-        """(lines, rods, points, env, seabed, work): what every kernel call takes."""
+        """(lines, rods, points, env, seabed, work): what every kernel call takes. ``work.features``
+        is brought up to date first when the layout or the scheme were replaced since (the kernels
+        are compiled without the code of the features they lack, see :mod:`moorline.core.features`)."""
         lay = self.layout
+        key = (id(lay.lines), id(lay.rigid), id(lay.env), id(lay.env_ic), int(self.scheme))
+        if key != self._features_key:
+            f = features_of(lay, self.scheme)
+            if f != self.work.features:
+                self.work = self.work._replace(features=f)
+            self._features_key = key
         return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work
 
     def _evaluate(self, piece: int = -1) -> None:
@@ -317,14 +329,30 @@ class System:
                 "backtracks": int(st[S_NBACK]), "slow_rebuilds": int(st[S_NSLOW]), "step": float(st[S_H]),
                 "colours": int(A.col_ptr.size - 1), "bandwidth": (int(A.band[0]), int(A.band[1]))}
 
-    def _advance(self, motion: Motion, t_end: float) -> None:
-        self._motion = motion
+    def _advance_call(self, motion: Motion, t_end: float):
+        """(kernel, arguments) of the compiled time loop from now to ``t_end``."""
         L, R, P, E, B, W = self._kernel_arrays()
-        last_stage = self.loads_at == "last_stage"
         if self.scheme == Scheme.GENALPHA:
             A, IW = self._implicit()
-            t, status, row, piece = advance_implicit(self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion,
-                                                     W, MAX_NODE_SPEED, True)
+            return advance_implicit, (self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion, W,
+                                      MAX_NODE_SPEED, True)
+        return advance, (self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P, E, B,
+                         motion, W, 1.0, self._S, MAX_NODE_SPEED, self.loads_at != "last_stage")
+
+    def warm_up(self, motion: Motion | None = None) -> None:
+        """Compile the time loop of this system now (or load it from numba's cache), without
+        integrating: the first ``step`` or ``advance_to`` then starts at full speed. ``init`` does
+        the same for the kernels of the initial conditions (by running them)."""
+        kernel, args = self._advance_call(self._motion if motion is None else motion, self.t)
+        compile_for(kernel, args)
+
+    def _advance(self, motion: Motion, t_end: float) -> None:
+        self._motion = motion
+        kernel, args = self._advance_call(motion, t_end)
+        W = self.work
+        last_stage = self.loads_at == "last_stage"
+        if self.scheme == Scheme.GENALPHA:
+            t, status, row, piece = kernel(*args)
             self.t = t
             if status == 1:
                 raise self._instability(t, int(row), "")
@@ -332,8 +360,7 @@ class System:
                 raise self._newton_failure(t, int(row))
             self._check_grid()
             return
-        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P,
-                                   E, B, motion, W, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
+        t, bad, _, piece = kernel(*args)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")

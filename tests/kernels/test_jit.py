@@ -1,0 +1,123 @@
+"""How the kernels are compiled (``moorline.core.jit``, ``moorline.core.features``).
+
+* Every kernel goes through the one decorator ``kernel``, the only place that names numba's
+  private ``_nrt`` option.
+* ``_nrt=False`` still does what it is there for: a kernel passing a NamedTuple of arrays to
+  another kernel compiles without reference-count updates. If a numba release drops the option,
+  ``moorline.core.jit`` fails at import; if it keeps the name but ignores it, this test fails
+  (the same function compiled with numba's defaults shows the updates, so the test can tell).
+* Features: a system's kernels are compiled without the code of features it lacks (``when``), and
+  with it when it has them.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit, typeof
+
+import moorline
+from moorline.core import features as F
+from moorline.core.features import RIGID, when
+from moorline.core.jit import KERNEL_OPTIONS
+from moorline.core.lines import line_bending
+from moorline.core.rhs import set_water
+from moorline.core.rigid import rigid_dynamics, rod_loads
+from moorline.system import System
+
+CORE = Path(moorline.__file__).parent / "core"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_every_kernel_goes_through_the_one_decorator():
+    for p in sorted(CORE.glob("*.py")):
+        if p.name == "jit.py":
+            continue
+        text = p.read_text()
+        assert "_nrt" not in text, f"{p.name} names numba's private _nrt option: use core.jit.kernel"
+        assert not re.search(r"@(numba\.)?n?jit\b", text), f"{p.name} compiles a kernel without core.jit.kernel"
+
+
+class _Arrays(NamedTuple):
+    a: np.ndarray
+    b: np.ndarray
+
+
+def _callee(t, x):
+    return t.a[0] + t.b[0] + x
+
+
+def _caller(t, x):
+    return _callee_disp(t, x) + 1.0
+
+
+_callee_disp = None
+
+
+def _compiled_llvm(options) -> str:
+    global _callee_disp
+    _callee_disp = njit(**options)(_callee)
+    caller = njit(**options)(_caller)
+    t = _Arrays(np.ones(3), np.ones(3))
+    assert caller(t, 1.0) == 4.0
+    return "\n".join(caller.inspect_llvm().values())
+
+
+def test_nrt_false_removes_reference_counting():
+    without_cache = {**KERNEL_OPTIONS, "cache": False}
+    assert without_cache["_nrt"] is False
+    refcounts = re.compile(r"call\s+void\s+@NRT_(incref|decref)")
+    assert refcounts.search(_compiled_llvm({"cache": False})), \
+        "numba's default compilation no longer reference counts here: this test cannot tell the option's effect"
+    assert not refcounts.search(_compiled_llvm(without_cache)), \
+        "_nrt=False no longer removes the reference counting: numba changed its private option"
+
+
+def test_features_of_the_examples():
+    cat = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
+    assert cat.work.features == F.Features()
+    cable = System.from_file(EXAMPLES / "wec_cable" / "wec_cable.dat")
+    assert cable.work.features == F.Features(F.RIGID, F.BENDING)
+    fixed_point = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat", scheme="BEuler3")
+    assert fixed_point.work.features == F.Features(F.FIXED_POINT)
+    from moorline.model.water import Waves
+
+    wavy = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
+    wavy.model.env.waves = Waves.regular(2.0, 8.0)
+    assert System(wavy.model).work.features == F.Features(F.WATER)
+
+
+def test_a_system_without_rods_waves_or_bending_does_not_compile_their_code():
+    s = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
+    s.init(solve_ic=False)
+    s.step(s.deck_coupled_positions(), np.zeros(s.n_coupled_dof), 0.0, 0.01)
+    W = typeof(s.work)
+    for kernel in (rod_loads, rigid_dynamics, set_water, line_bending):
+        assert not any(W in sig for sig in kernel.signatures), f"{kernel.__name__} compiled for {W}"
+
+
+class _Work(NamedTuple):
+    features: F.Features
+    x: np.ndarray
+
+
+def _bump(x):
+    x[0] += 1.0
+
+
+def _gated(W):
+    when(W, RIGID, _bump_disp, (W.x,))  # (a module attribute F.RIGID would not be a literal)
+    return W.x[0]
+
+
+_bump_disp = njit(cache=False)(_bump)
+
+
+def test_when_calls_only_with_the_feature():
+    gated = njit(**{**KERNEL_OPTIONS, "cache": False})(_gated)
+    assert gated(_Work(F.Features(), np.zeros(1))) == 0.0
+    assert not _bump_disp.signatures, "the callee was compiled for a system without the feature"
+    assert gated(_Work(F.Features(F.RIGID), np.zeros(1))) == 1.0
