@@ -12,7 +12,10 @@
 
 from __future__ import annotations
 
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 from typing import NamedTuple
 
@@ -121,3 +124,16 @@ def test_when_calls_only_with_the_feature():
     assert gated(_Work(F.Features(), np.zeros(1))) == 0.0
     assert not _bump_disp.signatures, "the callee was compiled for a system without the feature"
     assert gated(_Work(F.Features(F.RIGID), np.zeros(1))) == 1.0
+
+
+def test_stale_cache_logic_finds_numbas_cache_folder(tmp_path):
+    """With NUMBA_CACHE_DIR set, numba keeps the kernels' cache in the folder core/__init__ drops
+    when the kernel sources change (checked by compiling one kernel in a fresh process)."""
+    code = ("from moorline.core import kernel_cache_dirs\nfrom moorline.core.integrate import _axpy\n"
+            "import numpy as np\n_axpy(np.zeros(2), np.ones(2), 1.0, np.ones(2))\nprint(kernel_cache_dirs()[-1])")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    folder = Path(out.stdout.strip().splitlines()[-1])
+    assert folder.parent == tmp_path
+    assert list(folder.glob("integrate._axpy-*.nbi")), f"numba did not cache _axpy in {folder}"
+    assert (folder / "kernel-sources.sha256").is_file()
