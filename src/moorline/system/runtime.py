@@ -45,7 +45,9 @@ from ..core.waterkin import fluid_kinematics
 from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
+from . import checkpoint
 from .initial import MAX_NODE_SPEED, catenary_start, solve_initial_conditions
+from .limits import check_model
 from .views import BodyView, LineView, PointView, RodView
 
 log = logging.getLogger("moorline")
@@ -81,6 +83,7 @@ class System:
             raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
         self.loads_at = loads_at
         self.model = model
+        check_model(model)
         self.layout = build_layout(model)
         self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
             scheme if scheme is not None else model.options.tScheme)
@@ -370,6 +373,19 @@ class System:
             self._evaluate(int(piece))
             for f, a in zip(self._STAGE_FIELDS, kept, strict=False):
                 getattr(W, f)[...] = a
+
+    # ------------------------------------------------------------------ save and restart
+    def save(self, path, *, meta: dict | None = None) -> Path:
+        """Write a checkpoint (MoorDyn's Save): everything a restart needs to continue bitwise
+        identically, see :mod:`moorline.system.checkpoint`. ``meta``: JSON-ready values kept with
+        it (returned by :meth:`load`)."""
+        return checkpoint.save(self, path, meta=meta)
+
+    def load(self, path) -> dict:
+        """Restore a checkpoint written by :meth:`save` (MoorDyn's Load) into this system, built
+        from the same model with the same scheme and time step; returns its ``meta``. Raises
+        :class:`moorline.errors.CheckpointError` for a checkpoint of another model."""
+        return checkpoint.load(self, path)
 
     # ------------------------------------------------------------------ state access
     def state_rows(self) -> list[tuple[str, int, int]]:
