@@ -17,9 +17,12 @@ code 2 on the command line):
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from typing import TYPE_CHECKING
+
+import numpy as np
 
 from ..errors import InputLimitError
 from ..model import Model
@@ -35,8 +38,8 @@ WARN_STEPS = 1e8
 MAX_STEPS = 1e11
 #: output samples above which a run is refused unless forced (every sample is kept in memory)
 MAX_SAMPLES = 1e7
-#: line nodes above which a model is refused: the work arrays alone would take 40 GB
-MAX_NODES = 1e8
+#: line and rod nodes above which a model is refused: the work arrays alone would take 4 GB
+MAX_NODES = 1e7
 #: rough cost of one node and one time step [s] (RK2; benchmarks/RESULTS.md: 4e-8 to 1e-7)
 SECONDS_PER_NODE_STEP = 1e-7
 #: plausible fluid densities [kg/m^3]: 0 (no fluid) or from a gas to beyond mercury
@@ -58,6 +61,29 @@ def _finite(name: str, value, *, positive: bool = False, nonnegative: bool = Fal
     return v
 
 
+#: largest magnitude of any number of a model, in any of its units: beyond it products overflow
+MAX_MAGNITUDE = 1e30
+
+
+def _walk_numbers(obj, where: str):
+    """(where, value) of every number in a model object (dataclass fields, sequences, arrays)."""
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return
+    if isinstance(obj, (int, float, np.integer, np.floating)):
+        yield where, float(obj)
+    elif isinstance(obj, np.ndarray):
+        if obj.dtype.kind in "fiu" and obj.size:
+            bad = ~np.isfinite(obj) | (np.abs(obj) > MAX_MAGNITUDE)
+            if bad.any():
+                yield where, float(obj[bad].flat[0])
+    elif isinstance(obj, (list, tuple)):
+        for k, v in enumerate(obj):
+            yield from _walk_numbers(v, f"{where}[{k}]")
+    elif dataclasses.is_dataclass(obj):
+        for f in dataclasses.fields(obj):
+            yield from _walk_numbers(getattr(obj, f.name), f"{where} {f.name}")
+
+
 def check_model(model: Model) -> None:
     """Refuse a model whose values make no physical or numerical sense (see the module docstring).
 
@@ -65,6 +91,15 @@ def check_model(model: Model) -> None:
     ------
     InputLimitError
     """
+    groups = [(f"line type {k!r}", v) for k, v in model.line_types.items()]
+    groups += [(f"rod type {k!r}", v) for k, v in model.rod_types.items()]
+    for name, seq in (("point", model.points), ("line", model.lines), ("rod", model.rods), ("body", model.bodies)):
+        groups += [(f"{name} {k}", v) for k, v in enumerate(seq, 1)]
+    for what, obj in groups:
+        for where, v in _walk_numbers(obj, what):
+            if not math.isfinite(v) or abs(v) > MAX_MAGNITUDE:
+                raise InputLimitError(f"{where} = {v:g}: expected a finite number of magnitude below "
+                                      f"{MAX_MAGNITUDE:g} (no mooring property is larger in SI units)")
     env, opts = model.env, model.options
     rho = _finite("water density rho", env.rho, nonnegative=True, what=" [kg/m^3]")
     if rho != 0.0 and not RHO_RANGE[0] <= rho <= RHO_RANGE[1]:
@@ -95,10 +130,10 @@ def check_model(model: Model) -> None:
                                   "checks; expected dtIC of about 0.1 to 1 s")
         _finite("threshIC", opts.threshIC, positive=True)
     _finite("dtOut", opts.dtOut, nonnegative=True, what=" [s]")
-    nodes = sum(int(ln.N) + 1 for ln in model.lines)
+    nodes = sum(int(ln.N) + 1 for ln in model.lines) + sum(int(rod.N) + 1 for rod in model.rods)
     if nodes > MAX_NODES:
-        raise InputLimitError(f"{nodes:.3g} line nodes: more than {MAX_NODES:g}, beyond the memory of any machine "
-                              "this runs on; check NumSegs")
+        raise InputLimitError(f"{nodes:.3g} line and rod nodes: more than {MAX_NODES:g}, beyond the memory of any "
+                              "machine this runs on; check NumSegs")
     for k, ln in enumerate(model.lines, 1):
         _finite(f"line {k} UnstrLen", ln.L, what=" [m]")
 
