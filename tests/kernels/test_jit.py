@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+import pytest
 from numba import njit, typeof
 
 import moorline
@@ -79,7 +80,13 @@ def test_nrt_false_removes_reference_counting():
         "_nrt=False no longer removes the reference counting: numba changed its private option"
 
 
-def test_features_of_the_examples():
+@pytest.fixture
+def per_deck(monkeypatch):
+    """Kernels specialised to each deck's features, as outside the test suite (tests/conftest.py)."""
+    monkeypatch.delenv(F.ALL_FEATURES_ENV, raising=False)
+
+
+def test_features_of_the_examples(per_deck):
     cat = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
     assert cat.work.features == F.Features()
     cable = System.from_file(EXAMPLES / "wec_cable" / "wec_cable.dat")
@@ -93,7 +100,7 @@ def test_features_of_the_examples():
     assert System(wavy.model).work.features == F.Features(F.WATER)
 
 
-def test_a_system_without_rods_waves_or_bending_does_not_compile_their_code():
+def test_a_system_without_rods_waves_or_bending_does_not_compile_their_code(per_deck):
     s = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
     s.init(solve_ic=False)
     s.step(s.deck_coupled_positions(), np.zeros(s.n_coupled_dof), 0.0, 0.01)
@@ -137,3 +144,24 @@ def test_stale_cache_logic_finds_numbas_cache_folder(tmp_path):
     assert folder.parent == tmp_path
     assert list(folder.glob("integrate._axpy-*.nbi")), f"numba did not cache _axpy in {folder}"
     assert (folder / "kernel-sources.sha256").is_file()
+
+
+@pytest.mark.parametrize("deck, scheme", [
+    ("catenary_3line/catenary_3line.dat", None),
+    pytest.param("catenary_3line/catenary_3line.dat", "BEuler3", marks=pytest.mark.slow),
+    pytest.param("wec_cable/wec_cable.dat", None, marks=pytest.mark.slow),
+], ids=["RK2", "BEuler3", "cable"])
+def test_per_deck_and_all_feature_kernels_give_identical_results(monkeypatch, deck, scheme):
+    """The kernels compiled for a deck's own features and those compiled with every feature (the
+    test suite's) compute bit for bit the same: a feature only adds code the deck never reaches."""
+    runs = []
+    for value in ("0", "1"):
+        monkeypatch.setenv(F.ALL_FEATURES_ENV, value)
+        s = System.from_file(EXAMPLES / deck, **({"scheme": scheme} if scheme else {}))
+        s.init(solve_ic=False)
+        x = s.deck_coupled_positions()
+        for k in range(5):
+            s.step(x + 0.01 * k, np.full(s.n_coupled_dof, 0.1), 0.02 * k, 0.02)
+        runs.append((s.work.features, s.y.copy(), s.work.F.copy()))
+    assert runs[0][0] != runs[1][0]
+    assert np.array_equal(runs[0][1], runs[1][1]) and np.array_equal(runs[0][2], runs[1][2])

@@ -20,6 +20,8 @@ layout could reach the code it guards (for instance RIGID whenever there is a ro
 
 from __future__ import annotations
 
+import os
+
 from numba import types
 from numba.core import cgutils
 from numba.extending import NativeValue, intrinsic, models, register_model, typeof_impl, unbox
@@ -69,9 +71,17 @@ class Features:
         return f"Features({', '.join(repr(n) for n in ALL_FEATURES if n in self.names)})"
 
 
+#: environment variable: set to 1, every system has every feature, so one compiled specialisation
+#: serves all decks (compiled once, about a minute on 2 cores, instead of 10-30 s for each new
+#: kind of deck); the test suite sets it (tests/conftest.py). Results are identical either way.
+ALL_FEATURES_ENV = "MOORLINE_ALL_FEATURES"
+
+
 def features_of(layout, scheme: int | None = None) -> Features:
     """The features of a :class:`~moorline.core.layout.Layout` (and of the time scheme, an
-    ``integrate.Scheme`` value, when given)."""
+    ``integrate.Scheme`` value, when given); all of them when ``MOORLINE_ALL_FEATURES=1``."""
+    if os.environ.get(ALL_FEATURES_ENV) == "1":
+        return Features(*ALL_FEATURES)
     names = []
     R = layout.rigid
     if R.rod_kind.size or R.body_kind.size:
