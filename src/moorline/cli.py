@@ -314,6 +314,9 @@ def cmd_fatigue(args) -> int:
         ds = xr.load_dataset(args.results, engine="h5netcdf")
     except (OSError, ValueError) as e:
         raise DeckError(f"cannot read results: {e}", file=Path(args.results)) from None
+    if ds.attrs.get("complete", 1) == 0:
+        log.warning("%s holds an incomplete run (it stopped at t = %s s: %s)", args.results,
+                    ds.attrs.get("simulated_until"), ds.attrs.get("status", "killed or still running"))
     deck = args.deck or ds.attrs.get("source")
     model = read_deck(Path(deck)) if deck else None
     if model is None and args.EI is None:

@@ -1,4 +1,5 @@
-"""Simulation results as a labelled :class:`xarray.Dataset`, and its NetCDF writer.
+"""Simulation results as a labelled :class:`xarray.Dataset`, its NetCDF writer, and
+:class:`NetCDFStream`, which writes them as a run goes (attribute ``complete`` 0 until it ends).
 
 Dimensions: ``time``, ``node`` (all nodes of all lines), ``segment`` (all segments), ``line``,
 ``point``, ``xyz`` and ``dof`` (coupled DOFs). Node and segment coordinates say which line they

@@ -409,7 +409,7 @@ def run_kernel(model, y, t, motion, kin, cd_scale):
     # everything rhs must compute is poisoned first: a value it forgets to (re)set shows up as NaN
     # (bending forces and clamped-end moments are written only in a system with bending stiffness:
     # without, no kernel touches them and they keep the zeros of new_work, see core.features)
-    keep = ("features", "U", "Ud", "zeta", "pU") + (() if BENDING in W.features else ("Fbend", "end_moment"))
+    keep = ("features", "U", "Ud", "zeta", "pU") + (() if BENDING in W.features.names else ("Fbend", "end_moment"))
     for name in W._fields:
         if name not in keep:
             getattr(W, name)[...] = np.nan

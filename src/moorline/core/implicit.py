@@ -268,12 +268,12 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     nd = IW.a1.size
     for i in range(n):
         IW.y0[i] = y[i]
-    if B.ctl[0] == 1:
-        # stick-slip friction anchors are committed at the state at the start of the step (which
-        # moves the friction forces: the derivative there is evaluated again)
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, np.bool_(True))
-    elif _coupled_moved(IW, Mo, W, t, piece):
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, np.bool_(False))
+    # stick-slip friction anchors are committed at the state at the start of the step (which
+    # moves the friction forces: the derivative there is evaluated again); otherwise the derivative
+    # is evaluated again only when the coupled trajectory moved (one call site of rhs for both)
+    commit = B.ctl[0] == 1
+    if commit or _coupled_moved(IW, Mo, W, t, piece):
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit)
     hp = IW.stat[S_HPREV]
     w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
