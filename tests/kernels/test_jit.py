@@ -91,6 +91,8 @@ def test_features_of_the_examples(per_deck):
     assert cat.work.features == F.Features()
     cable = System.from_file(EXAMPLES / "wec_cable" / "wec_cable.dat")
     assert cable.work.features == F.Features.of(F.RIGID, F.BENDING)
+    slope = System.from_file(EXAMPLES / "slope_friction" / "slope_chain.dat")
+    assert slope.work.features == F.Features.of(F.STICKSLIP)
     fixed_point = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat", scheme="BEuler3")
     assert fixed_point.work.features == F.Features.of(F.FIXED_POINT)
     from moorline.model.water import Waves

@@ -27,6 +27,8 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from .seabed import FRIC_STICKSLIP
+
 #: rods or bodies (their kinematics, loads and rigid-body dynamics)
 RIGID = "rigid"
 #: water kinematics: waves, currents or externally set kinematics
@@ -35,8 +37,10 @@ WATER = "water"
 BENDING = "bending"
 #: MoorDyn's fixed-point implicit schemes BEuler<M> and Midpoint<M>
 FIXED_POINT = "fixed_point"
+#: moorline's stick-slip seabed friction
+STICKSLIP = "stickslip"
 #: every feature, in the order they are named
-ALL_FEATURES = (RIGID, WATER, BENDING, FIXED_POINT)
+ALL_FEATURES = (RIGID, WATER, BENDING, FIXED_POINT, STICKSLIP)
 
 
 class Features(NamedTuple):
@@ -52,10 +56,11 @@ class Features(NamedTuple):
     water: bool | None = None
     bending: bool | None = None
     fixed_point: bool | None = None
+    stickslip: bool | None = None
 
     @classmethod
     def of(cls, *names: str) -> Features:
-        """The Features with exactly ``names`` (some of RIGID, WATER, BENDING, FIXED_POINT)."""
+        """The Features with exactly ``names`` (some of :data:`ALL_FEATURES`)."""
         unknown = set(names) - set(ALL_FEATURES)
         if unknown:
             raise ValueError(f"unknown features {sorted(unknown)}; expected some of {ALL_FEATURES}")
@@ -95,6 +100,8 @@ def features_of(layout, scheme: int | None = None) -> Features:
         names.append(BENDING)
     if scheme is not None and int(scheme) == 3:  # integrate.Scheme.IMPLICIT (not imported: integrate imports us)
         names.append(FIXED_POINT)
+    if layout.env.fric == FRIC_STICKSLIP or layout.env_ic.fric == FRIC_STICKSLIP:
+        names.append(STICKSLIP)
     return Features.of(*names)
 
 
@@ -137,3 +144,24 @@ def when(typingctx, W, feature, fn, args):
         return context.get_dummy_value()
 
     return sig, call
+
+
+@intrinsic(prefer_literal=True)
+def either(typingctx, W, feature, fn, args, other, other_args):
+    """In a kernel, ``either(W, FEATURE, fn, (a, ...), other, (b, ...))``: ``fn(a, ...)`` if the
+    system of ``W`` has ``FEATURE``, else ``other(b, ...)``; only the one called is compiled (for a
+    call with a result, where :func:`when` has none)."""
+    if not isinstance(feature, types.StringLiteral):
+        raise TypeError("either(): the feature must be a compile-time constant: import RIGID, WATER, ... by name")
+    if feature.literal_value not in ALL_FEATURES:
+        raise TypeError(f"either(): unknown feature {feature.literal_value!r}; expected one of {ALL_FEATURES}")
+    on = feature.literal_value in _features_in(W)
+    callee, arg_types, k = (fn, tuple(args.types), 3) if on else (other, tuple(other_args.types), 5)
+    callee_sig = callee.get_call_type(typingctx, tuple(types.unliteral(a) for a in arg_types), {})
+
+    def call(context, builder, signature, llargs):
+        values = cgutils.unpack_tuple(builder, llargs[k], len(arg_types))
+        values = [context.cast(builder, v, a, b) for v, a, b in zip(values, arg_types, callee_sig.args, strict=True)]
+        return context.get_function(callee, callee_sig)(builder, values)
+
+    return callee_sig.return_type(W, feature, fn, args, other, other_args), call

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from .features import BENDING, when
+from .features import BENDING, STICKSLIP, either, when
 from .jit import kernel
 from .layout import ATT_ROD_A, ATT_ROD_B
 from .numerics import bracket, unit3
@@ -285,9 +285,12 @@ def line_forces(L, E, B, W, cd_scale):
                 if outside:
                     ctl[2] += 1
             if r[n, 2] < zb:
-                if stickslip:
-                    bx, by, bz = seabed_force_stickslip(E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1],
-                                                        r[n, 2], v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam)
+                if stickslip:  # (compiled only for systems with stick-slip friction: core.features)
+                    bx, by, bz = either(W, STICKSLIP, seabed_force_stickslip,
+                                        (E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1], r[n, 2],
+                                         v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam), seabed_force,
+                                        (E, zb, bnx, bny, bnz, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1], v[n, 2],
+                                         qx, qy, qz, d, lam))
                 else:
                     bx, by, bz = seabed_force(E, zb, bnx, bny, bnz, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1],
                                               v[n, 2], qx, qy, qz, d, lam)
