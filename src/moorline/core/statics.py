@@ -137,7 +137,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
             return 0, t, e / nrow, it
 
 
-@kernel
+@kernel(inline="always")
 def _fairlead_tensions(L, W, out):
     for li in range(L.seg_ptr.size - 1):
         s = L.seg_ptr[li + 1] - 1
@@ -168,7 +168,7 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
         # final_eval: the Work arrays then hold the loads of the state at t1
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, True)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, np.bool_(True))
         if bad >= 0:
             return False, t, bad
         _fairlead_tensions(L, W, ten)
