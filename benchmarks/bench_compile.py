@@ -21,7 +21,10 @@ compile and start-up):
 * seabed grid: a chain on a bathymetry grid with stick-slip friction (examples/slope_friction);
 * waves: the README catenary in a JONSWAP sea (``--waves``);
 * GenAlpha: the README catenary with the implicit scheme (Newton statics, generalized-alpha);
-* BEuler5: the README catenary with MoorDyn's fixed-point implicit scheme.
+* BEuler5: the README catenary with MoorDyn's fixed-point implicit scheme;
+* floating: the two-body point absorber (examples/point_absorber/system.yaml: two floating bodies
+  with state-space radiation, a joint with a PTO, Morison strips, JONSWAP excitation; RK2), 5 s;
+  its Capytaine coefficients come from moorline's hydro cache (computed once, before the timing).
 
 Cached start-up is a process that imports moorline, reads the README deck and makes one 0.01 s
 step without initial conditions (import + deck + loading the time-loop kernels from the cache).
@@ -62,6 +65,7 @@ CASES = [
                            "GenAlpha"]),
     ("fixed-point BEuler5", [str(README_DECK), "--duration", "5", "--motion", str(README_MOTION), "--scheme",
                              "BEuler5", "--dtM", "0.001"]),
+    ("floating (point absorber)", [str(EX / "point_absorber" / "system.yaml"), "--duration", "5"]),
 ]
 
 #: cached start-up: import, read the deck, one short step (loads the time-loop kernels)

@@ -12,9 +12,16 @@ checks it):
                    water kinematics, rhs, time schemes, implicit solver and its Jacobian, the
                    dynamic model's static kernels                       -> numpy, numba (and model,
                                                                            where it builds arrays)
-    quasistatic/   the quasi-static line model (elastic catenary)       -> model, core
+    hydro/         potential-flow coefficients as xarray Datasets: WAMIT and Capytaine readers,
+                   cached Capytaine runs, impulse responses, state-space fits, RAOs
+                                                                        -> numpy, scipy, xarray (capytaine)
+    quasistatic/   the quasi-static model: elastic catenaries with seabed friction, line
+                   networks with free points and bodies, stiffness, offset curves
+                                                                        -> model, core
     system/        the runtime: System (init / step / advance_to), object views, initial
-                   conditions, checkpoints (save / load), input limits  -> core, quasistatic, model, io
+                   conditions, floating-body arrays, checkpoints (save / load), input limits
+                                                                        -> core, quasistatic, hydro,
+                                                                           model, io
     motion.py      prescribed coupled motions                           -> core
     results.py     xarray Datasets, the NetCDF writer and its stream    -> numpy, xarray
     progress.py    the compile notice and its timing (stderr)           -> numba, tqdm

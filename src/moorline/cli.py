@@ -1,9 +1,9 @@
 """The ``moorline`` command.
 
-    moorline run DECK [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
+    moorline run DECK|SYSTEM.yaml [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
                  [--waves jonswap:Hs=3.5,Tp=7.5,heading=180,seed=1] [--current 1.0@180]
                  [--checkpoint-every S] [--resume CHECKPOINT] [--force]
-    moorline statics DECK [--out DIR]
+    moorline statics DECK [--out DIR] [--quasi-static [--json] [--offset x,y,z,rx,ry,rz] [--friction CB]]
     moorline check DECK [--strict]
     moorline sweep STUDY.yaml [--workers N] [--scheduler ADDRESS] [--out DIR] [--no-resume]
     moorline fatigue RESULT.nc --do 0.040 [--di 0.020] --alpha 6.098e19 --m 6.238 [--unit 1e6]
@@ -59,11 +59,22 @@ def _setup_logging(verbosity: int, log_file: Path | None = None) -> None:
         root.addHandler(fh)
 
 
-def _load(args):
+def _read_input(path: Path):
+    """The model and the run settings of a MoorDyn deck or a system file (.yaml/.yml)."""
     from .io import read_deck
+    from .io.system_file import read_system_file
+
+    if path.suffix.lower() in (".yaml", ".yml"):
+        sf = read_system_file(path)
+        return sf.model, sf.run
+    return read_deck(path), {}
+
+
+def _load(args):
     from .system import System
 
-    model = read_deck(Path(args.deck))
+    model, run = _read_input(Path(args.deck))
+    args.run_settings = run
     try:
         if getattr(args, "waves", None):
             model.env.waves = parse_waves(args.waves)
@@ -71,7 +82,9 @@ def _load(args):
             model.env.current = parse_current(args.current)
     except ValueError as e:  # a bad --waves / --current value: bad input, exit code 2
         raise DeckError(str(e)) from None
-    kwargs = {}
+    kwargs = {k: v for k, v in run.items() if k in ("dtM", "scheme", "mooring")}
+    if getattr(args, "mooring", None):
+        kwargs["mooring"] = args.mooring
     if getattr(args, "dtM", None):
         kwargs["dtM"] = args.dtM
     if getattr(args, "scheme", None):
@@ -160,6 +173,11 @@ def cmd_run(args) -> int:
         motion = Trajectory.from_csv(args.motion, n_dof=system.n_coupled_dof, interpolation=args.interp)
     elif system.n_coupled_dof:
         log.info("no --motion given: the %d coupled DOF stay where the deck puts them", system.n_coupled_dof)
+    run = args.run_settings
+    if args.duration is None:
+        args.duration = run.get("duration", 60.0)
+    if args.dt_out is None:
+        args.dt_out = run.get("dt_out")
     cursors = {}
     if args.resume:
         cursors = system.load(args.resume).get("outputs", {})
@@ -202,16 +220,26 @@ def cmd_run(args) -> int:
               "of deck only: they are cached)")
     print(f"  simulated {args.duration - t_resumed:g} s in {ds.attrs['wall_time_s']:.3g} s wall time "
           f"({ds.attrs['real_time_factor']:.3g} x real time); {total:.3g} s in all")
-    tb = ds.line_tension_b
-    if args.resume:
+    full_ds = ds
+    if args.resume:  # the summary covers the whole run, from the file the resumed run appended to
         import xarray as xr
 
         with xr.open_dataset(nc.path, engine="h5netcdf") as full:
-            tb = full.line_tension_b.load()
+            full_ds = full.load()
+    tb = full_ds.line_tension_b
     for ln in system.lines:
         t = tb.sel(line=ln.number).values
         print(f"  line {ln.number}: fairlead tension min {t.min() / 1e3:.1f} kN, mean {t.mean() / 1e3:.1f} kN, "
               f"max {t.max() / 1e3:.1f} kN")
+    fl = system.layout.fl
+    for b in fl.body:
+        pose = full_ds.body_pose.sel(body=int(b) + 1).values
+        print(f"  floating body {int(b) + 1}: surge mean {pose[:, 0].mean():.3f} m, std heave {pose[:, 2].std():.3f} "
+              f"m, pitch {np.degrees(pose[:, 4]).std():.3f} deg, yaw {np.degrees(pose[:, 5]).std():.3f} deg")
+    if "pto_power" in full_ds:
+        for j in full_ds.joint.values:
+            P = full_ds.pto_power.sel(joint=j).values
+            print(f"  joint {j}: mean PTO power {P.mean() / 1e3:.2f} kW, max {P.max() / 1e3:.1f} kW")
     for p in written:
         print(f"  wrote {p}")
     return 0
@@ -221,6 +249,11 @@ def cmd_statics(args) -> int:
     from .progress import CompileWatch
     from .results import Recorder, write_netcdf
 
+    if args.quasi_static:
+        return _statics_quasi_static(args)
+    for flag in ("json", "offset", "friction"):
+        if getattr(args, flag) not in (None, False):
+            raise DeckError(f"--{flag} needs --quasi-static")
     system = _load(args)
     with CompileWatch(announce=True):
         system.init(solve_ic=True)
@@ -240,6 +273,73 @@ def cmd_statics(args) -> int:
         rec.record()
         path = write_netcdf(rec.to_dataset(), Path(args.out) / f"{Path(args.deck).stem}_statics.nc")
         print(f"  wrote {path}")
+    return 0
+
+
+def _statics_quasi_static(args) -> int:
+    """``statics --quasi-static``: the quasi-static equilibrium, tensions and coupled stiffness."""
+    import json
+
+    from .io import read_deck
+    from .quasistatic import QuasiStaticError, QuasiStaticModel
+    from .quasistatic.studies import displace_coupled, solution_dataset
+
+    model = read_deck(Path(args.deck))
+    friction = 0.0 if args.friction is None else args.friction
+    try:
+        if friction != "deck":
+            friction = float(friction)
+        qs = QuasiStaticModel(model, seabed_friction=friction)
+        x = None
+        if args.offset:
+            try:
+                dq = np.array([float(v) for v in args.offset.split(",")])
+            except ValueError:
+                dq = np.zeros(0)
+            if dq.size != 6:
+                raise DeckError(f"--offset {args.offset!r}: expected six numbers x,y,z,rx,ry,rz (m, deg)")
+            x = displace_coupled(qs, np.r_[dq[:3], np.radians(dq[3:])])
+        sol = qs.solve(x)
+        qs.check_seabed()
+    except (QuasiStaticError, ValueError) as e:
+        if isinstance(e, DeckError):
+            raise
+        print(f"moorline: quasi-static model: {e}", file=sys.stderr)
+        return 2
+    m = model
+    if args.json:
+        out = {
+            "lines": {str(k + 1): {"fairlead_tension": float(sol.tensions[k, 1]),
+                                   "anchor_tension": float(sol.tensions[k, 0])} for k in range(len(m.lines))},
+            "points": {str(p + 1): [float(v) for v in sol.points[p]] for p, pt in enumerate(m.points)
+                       if pt.kind.name == "FREE"},
+            "bodies": {str(b + 1): [float(v) for v in sol.bodies[b]] for b in range(len(m.bodies))},
+            "stiffness": [[float(v) for v in row] for row in sol.stiffness],
+        }
+        print(json.dumps(out, indent=1))
+    else:
+        print(f"moorline {__version__}: quasi-static equilibrium of {args.deck} ({sol.iterations} Newton iterations)")
+        for k in range(len(m.lines)):
+            print(f"  line {k + 1}: fairlead tension {sol.tensions[k, 1] / 1e3:.3f} kN, anchor tension "
+                  f"{sol.tensions[k, 0] / 1e3:.3f} kN")
+        for p, pt in enumerate(m.points):
+            if pt.kind.name == "FREE":
+                print(f"  point {p + 1} (free): position {np.round(sol.points[p], 4).tolist()} m")
+        for b in range(len(m.bodies)):
+            print(f"  body {b + 1}: position {np.round(sol.bodies[b, :3], 4).tolist()} m, rotation "
+                  f"{np.round(np.degrees(sol.bodies[b, 3:]), 4).tolist()} deg")
+        labels = qs.coupled_dof_labels
+        if labels:
+            print("  stiffness of the coupled DOFs [N/m, N/rad, N m/m, N m/rad]:")
+            print("  " + " " * 10 + "".join(f"{lab:>12s}" for lab in labels))
+            for i, lab in enumerate(labels):
+                print(f"  {lab:>10s}" + "".join(f"{v:12.4g}" for v in sol.stiffness[i]))
+    if args.out:
+        from .results import write_netcdf
+
+        path = write_netcdf(solution_dataset(qs, qs.solve(x, gradients=True)),
+                            Path(args.out) / f"{Path(args.deck).stem}_quasistatic.nc")
+        print(f"  wrote {path}", file=sys.stderr if args.json else sys.stdout)
     return 0
 
 
@@ -376,14 +476,15 @@ def build_parser() -> argparse.ArgumentParser:
     sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     def common(p):
-        p.add_argument("deck", help="MoorDyn v2 input file")
+        p.add_argument("deck", help="MoorDyn v2 input file, or a system file (.yaml) naming one")
         p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
         p.add_argument("--dtM", type=_positive, help="override the internal time step [s]")
         p.add_argument("--scheme", help="override the time scheme (Euler, RK2, RK4, BEuler<M>, Midpoint<M>)")
 
     p = sub.add_parser("run", help="simulate a deck with an imposed coupled motion")
     common(p)
-    p.add_argument("--duration", type=_positive, default=60.0, help="simulated time [s] (default 60)")
+    p.add_argument("--duration", type=_positive, default=None,
+                   help="simulated time [s] (default: the system file's, else 60)")
     p.add_argument("--motion", help="CSV: header row, time t [s] first, one column per coupled DOF")
     p.add_argument("--interp", choices=("cubic", "linear"), default="cubic",
                    help="interpolation of the motion samples (cubic: smooth velocities; linear: as a MoorDyn "
@@ -393,6 +494,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--waves", help="a sea instead of the deck's WaveKin: jonswap:Hs=3.5,Tp=7.5[,gamma=3.3]"
                    "[,heading=180][,seed=1][,n=200][,ramp=20], pm:Hs=..,Tp=.. or regular:H=2,T=8[,heading=..]")
     p.add_argument("--current", help="a uniform current instead of the deck's Currents: SPEED@HEADING, e.g. 1.0@180")
+    p.add_argument("--mooring", choices=("dynamic", "quasistatic"),
+                   help="lines as dynamic lumped masses (default) or quasi-static catenaries re-solved every step "
+                   "(floating bodies only)")
     p.add_argument("--no-ic", action="store_true", help="start from the catenary profile (no IC solve)")
     p.add_argument("--no-nodes", action="store_true", help="keep node data out of the NetCDF file")
     p.add_argument("--quiet-progress", action="store_true", help="no progress bar (default: shown on a terminal)")
@@ -405,7 +509,14 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("statics", help="find the initial equilibrium and report it")
     common(p)
-    p.add_argument("--out", help="also write <base>_statics.nc to this folder")
+    p.add_argument("--out", help="also write <base>_statics.nc (<base>_quasistatic.nc) to this folder")
+    p.add_argument("--quasi-static", action="store_true",
+                   help="the quasi-static model (catenary lines): equilibrium, tensions and coupled stiffness")
+    p.add_argument("--json", action="store_true", help="with --quasi-static: print the results as JSON")
+    p.add_argument("--offset", help="with --quasi-static: rigid offset of the coupled body (coupled points) from the "
+                   "deck pose: x,y,z,rx,ry,rz (m, deg)")
+    p.add_argument("--friction", help="with --quasi-static: seabed friction coefficient CB of the lines (default 0), "
+                   "or 'deck' for the deck's axial friction coefficient")
     p.set_defaults(func=cmd_statics)
 
     p = sub.add_parser("check", help="read a deck and report its size and time-step stability")

@@ -3,8 +3,11 @@
 One run (:func:`moorline.simulate` results): :func:`curvature_envelope`. A sweep
 (:func:`moorline.studies.run_sweep` dataset): :func:`envelopes_along_arc` (curvature, stress, ...
 envelopes per case), :func:`damage_along_arc`, :func:`scatter_heatmap` (the fatigue Hs-Tz matrix)
-and :func:`sensitivity` (how a result depends on each parameter). Every function draws into the
-axes it is given (or a new figure) and returns the axes.
+and :func:`sensitivity` (how a result depends on each parameter). Quasi-static studies
+(:mod:`moorline.quasistatic.studies` datasets): :func:`offset_curve` and :func:`watch_circle`. Floating
+bodies: :func:`rao` (frequency-domain RAOs of :func:`moorline.hydro.rao`, with time-domain points) and
+:func:`decay` (a free decay from a run's results). Every function draws into the axes it is given (or a
+new figure) and returns the axes.
 """
 
 from __future__ import annotations
@@ -12,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-__all__ = ["cases", "curvature_envelope", "damage_along_arc", "envelopes_along_arc", "scatter_heatmap",
-           "sensitivity"]
+__all__ = ["cases", "curvature_envelope", "damage_along_arc", "decay", "envelopes_along_arc", "offset_curve", "rao",
+           "scatter_heatmap", "sensitivity", "watch_circle"]
 
 
 def _axes(ax, figsize=(7.0, 4.2)):
@@ -189,6 +192,64 @@ def sensitivity(ds: xr.Dataset, metric: str = "life_years", *, axes=None, log: b
     return axes
 
 
+def offset_curve(ds: xr.Dataset, *, axes=None, end: str = "B", lines=None):
+    """Restoring force (top) and line tensions (bottom) against the offset of a quasi-static offset
+    curve (:func:`moorline.quasistatic.studies.offset_curve`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The offset curve.
+    axes : sequence of two Axes, optional
+        Where to draw (default: a new figure with two stacked axes).
+    end : {"A", "B"}
+        Which end's tension to draw (B: fairlead, A: anchor).
+    lines : iterable of int, optional
+        Line numbers to draw (default all).
+    """
+    if axes is None:
+        import matplotlib.pyplot as plt
+
+        axes = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True)[1]
+    rot = ds.offset.attrs.get("units") == "rad"
+    x = np.degrees(ds.offset.values) if rot else ds.offset.values
+    scale = 1e-6 if rot else 1e-3
+    axes[0].plot(x, ds.restoring.values * scale, color="k", lw=1.8)
+    axes[0].set_ylabel("restoring moment [MN m]" if rot else "restoring force [kN]")
+    head = f" at {ds.attrs['heading_deg']:g} deg" if ds.attrs.get("dof") in ("surge", "sway") else ""
+    axes[0].set_title(f"{ds.attrs.get('dof', 'offset')} offset{head}: {ds.attrs.get('target', '')}", fontsize=10)
+    sel = ds.line.values if lines is None else list(lines)
+    colors = _colors(len(sel))
+    for c, ln in zip(colors, sel, strict=True):
+        axes[1].plot(x, ds.tension.sel(line=ln, end=end).values * 1e-3, color=c, lw=1.3, label=f"line {ln}")
+    axes[1].set_ylabel(f"{'fairlead' if end == 'B' else 'anchor'} tension [kN]")
+    axes[1].set_xlabel(f"{ds.attrs.get('dof', 'offset')} offset [{'deg' if rot else 'm'}]")
+    if len(sel) <= 12:
+        axes[1].legend(fontsize=8, ncol=2 if len(sel) > 4 else 1)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    return axes
+
+
+def watch_circle(ds: xr.Dataset, *, ax=None, color_by_tension: bool = True):
+    """Mean offsets of a quasi-static watch circle (:func:`moorline.quasistatic.studies.watch_circle`)
+    in the horizontal plane, coloured by the largest line tension."""
+    ax = _axes(ax, figsize=(5.6, 5.0))
+    x = np.append(ds.offset_x.values, ds.offset_x.values[:1])
+    y = np.append(ds.offset_y.values, ds.offset_y.values[:1])
+    ax.plot(x, y, color="0.4", lw=1.0)
+    if color_by_tension:
+        sc = ax.scatter(ds.offset_x, ds.offset_y, c=ds.max_tension.values * 1e-3, cmap="viridis", zorder=3)
+        ax.figure.colorbar(sc, ax=ax, label="largest line tension [kN]")
+    ax.plot(0.0, 0.0, "k+", ms=10)
+    ax.set_aspect("equal")
+    ax.set_xlabel("offset x [m]")
+    ax.set_ylabel("offset y [m]")
+    ax.set_title(f"watch circle, {ds.attrs.get('force_N', 0.0) / 1e3:g} kN", fontsize=10)
+    ax.grid(alpha=0.3)
+    return ax
+
+
 def _edges(c: np.ndarray) -> np.ndarray:
     """Cell edges around bin centres."""
     c = np.asarray(c, dtype=float)
@@ -203,3 +264,56 @@ def _colors(n: int):
 
     cmap = plt.get_cmap("viridis")
     return [cmap(i / max(n - 1, 1)) for i in range(n)]
+
+
+def rao(ds: xr.Dataset, dofs, *, ax=None, period: bool = True, time_domain=None, labels=None):
+    """Amplitudes of response amplitude operators against period (or frequency).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`moorline.hydro.rao` (variable ``rao`` over omega and influenced_dof).
+    dofs : list of str
+        DOF labels to draw (e.g. ``["body1__Heave", "body2__Heave"]``).
+    time_domain : dict, optional
+        ``{dof: (omega array, amplitude array)}`` steady time-domain amplitudes per unit wave
+        amplitude, drawn as markers on the same axes.
+    """
+    ax = _axes(ax)
+    w = ds["omega"].values
+    x = 2 * np.pi / w if period else w
+    for k, dof in enumerate(dofs):
+        label = labels[k] if labels else dof
+        line, = ax.plot(x, np.abs(ds["rao"].sel(influenced_dof=dof).values), label=f"{label} (frequency domain)")
+        if time_domain and dof in time_domain:
+            wt, amp = time_domain[dof]
+            xt = 2 * np.pi / np.asarray(wt) if period else np.asarray(wt)
+            ax.plot(xt, amp, "o", color=line.get_color(), label=f"{label} (time domain)")
+    ax.set_xlabel("wave period [s]" if period else "wave frequency [rad/s]")
+    ax.set_ylabel("amplitude per unit wave amplitude [m/m, rad/m]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def decay(ds: xr.Dataset, body: int, dof: str, *, ax=None, mean=None):
+    """A free decay from a run's results: the body's pose component ``dof`` (x, y, z, roll, pitch,
+    yaw) against time, with its peaks and the damped period from the zero crossings about ``mean``
+    (default: the last sample)."""
+    ax = _axes(ax)
+    t = ds["time"].values
+    x = ds["body_pose"].sel(body=body, pose=dof).values
+    m = x[-1] if mean is None else mean
+    ax.plot(t, x, lw=1.2)
+    d = x - m
+    i = np.where(np.sign(d[:-1]) != np.sign(d[1:]))[0]
+    if i.size >= 3:
+        zc = t[i] - d[i] * (t[i + 1] - t[i]) / (d[i + 1] - d[i])
+        period = 2.0 * float(np.mean(np.diff(zc)))
+        ax.set_title(f"body {body} {dof} decay: damped period {period:.3g} s", fontsize=10)
+    unit = "m" if dof in ("x", "y", "z") else "rad"
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(f"{dof} [{unit}]")
+    ax.grid(True, alpha=0.3)
+    return ax
+

@@ -21,6 +21,7 @@ import numpy as np
 import xarray as xr
 
 from . import __version__
+from .core.layout import FC_NAMES
 from .errors import CheckpointError
 
 
@@ -72,7 +73,8 @@ class Recorder:
             "segment_tension",
             "segment_strain", "line_tension_a", "line_tension_b", "point_position", "point_velocity",
             "point_force", "coupled_position", "coupled_force", "rod_end_position", "rod_force", "body_pose",
-            "body_velocity", "body_force", "probe_kinematics")}
+            "body_velocity", "body_force", "probe_kinematics", "float_force", "float_displacement", "joint_slide",
+            "joint_slide_rate", "pto_power")}
 
     def record(self) -> None:
         s = self.system
@@ -87,8 +89,9 @@ class Recorder:
             d["node_bending_moment"].append(_cat([ln.node_bending_moments() for ln in s.lines]))
         d["segment_tension"].append(np.linalg.norm(w.T + w.Td, axis=1))
         d["segment_strain"].append(w.seg_len / s.layout.lines.seg_l0 - 1.0)
-        d["line_tension_a"].append([ln.anchor_tension() for ln in s.lines])
-        d["line_tension_b"].append([ln.fairlead_tension() for ln in s.lines])
+        T = s.line_end_tensions()  # the quasi-static lines' in the quasi-static mode
+        d["line_tension_a"].append(T[:, 0])
+        d["line_tension_b"].append(T[:, 1])
         d["point_position"].append(w.pr.copy())
         d["point_velocity"].append(w.pv.copy())
         d["point_force"].append(w.pF.copy())
@@ -103,6 +106,14 @@ class Recorder:
             d["body_pose"].append(np.array([b.pose() for b in s.bodies]))
             d["body_velocity"].append(np.concatenate([w.bv, w.bw], axis=1))
             d["body_force"].append(w.b6F.copy())
+        fl = s.layout.fl
+        if fl.body.size:
+            d["float_force"].append(s.fwork.F.copy())
+            d["float_displacement"].append(s.fwork.xi.copy())
+            if fl.jt_child.size:
+                d["joint_slide"].append(s.fwork.jt[:, 0].copy())
+                d["joint_slide_rate"].append(s.fwork.jt[:, 1].copy())
+                d["pto_power"].append(s.fwork.jt[:, 2].copy())
 
     def to_dataset(self, start: int = 0, stop: int | None = None) -> xr.Dataset:
         """The samples ``start:stop`` (default all) as a Dataset."""
@@ -142,6 +153,14 @@ class Recorder:
         add("body_velocity", ("body", "dof6"), {"units": "m/s, rad/s", "long_name": "velocity and angular velocity"})
         add("body_force", ("body", "dof6"), {"units": "N, N m", "long_name": "net force and moment about the "
                                              "reference point"})
+        add("float_force", ("floating_body", "force_component", "dof6"),
+            {"units": "N, N m", "long_name": "potential-flow and extra loads on each floating body about its "
+                                             "reference point (radiation: memory part; A_inf acts through the mass)"})
+        add("float_displacement", ("floating_body", "dof6"),
+            {"units": "m, rad", "long_name": "displacement from the mean pose (hydrostatics are linear in it)"})
+        add("joint_slide", ("joint",), {"units": "m", "long_name": "slide of the joint's child along its axis"})
+        add("joint_slide_rate", ("joint",), {"units": "m/s"})
+        add("pto_power", ("joint",), {"units": "W", "long_name": "power absorbed by the PTO damper c s'^2"})
         if "probe_kinematics" in d:
             pk = d.pop("probe_kinematics")
             d["probe_velocity"], d["probe_acceleration"] = pk[:, :, 0:3], pk[:, :, 3:6]
@@ -156,7 +175,7 @@ class Recorder:
         coords = {
             "time": ("time", np.asarray(self.t[start:stop], dtype=float), {"units": "s"}),
             "xyz": ("xyz", ["x", "y", "z"]),
-            "line": ("line", np.arange(1, nl + 1)),
+            "line": ("line", np.arange(1, (d["line_tension_b"].shape[1] if "line_tension_b" in d else nl) + 1)),
             "point": ("point", np.arange(1, len(s.points) + 1)),
             "node_line": ("node", node_line),
             "node_index": ("node", node_index),
@@ -164,7 +183,7 @@ class Recorder:
             "segment_line": ("segment", seg_line),
             "segment_index": ("segment", seg_index),
             "segment_s": ("segment", seg_s, {"units": "m"}),
-            "line_type": ("line", np.array(lay.line_type_names, dtype=str)),
+            "line_type": ("line", np.array([ln.line_type for ln in s.full_model.lines], dtype=str)),
             "point_kind": ("point", np.array([p.kind.name.lower() for p in s.model.points], dtype=str)),
         }
         if s.n_coupled_dof:
@@ -179,6 +198,12 @@ class Recorder:
         if s.bodies:
             coords["body"] = ("body", np.arange(1, len(s.bodies) + 1))
             coords["pose"] = ("pose", ["x", "y", "z", "roll", "pitch", "yaw"])
+        fl = lay.fl
+        if fl.body.size:
+            coords["floating_body"] = ("floating_body", fl.body + 1, {"long_name": "deck body number"})
+            coords["force_component"] = ("force_component", list(FC_NAMES))
+            if fl.jt_child.size:
+                coords["joint"] = ("joint", np.arange(1, fl.jt_child.size + 1))
         opts = asdict(s.model.options)
         attrs = {
             "title": f"moorline simulation of {s.model.source.name if s.model.source else 'a Python-built model'}",

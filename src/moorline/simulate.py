@@ -20,6 +20,7 @@ import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
 
+from .errors import CheckpointError
 from .model import Model
 from .motion import Trajectory
 from .progress import CompileWatch
@@ -158,6 +159,10 @@ def simulate(system, duration: float, motion=None, *, dt_out: float | None = Non
         raise ValueError(f"dt_out must be a finite number > 0, got {dt_out}")
     if checkpoint_every is not None and not (math.isfinite(checkpoint_every) and checkpoint_every > 0):
         raise ValueError(f"checkpoint_every must be a finite number > 0, got {checkpoint_every}")
+    if checkpoint is not None and getattr(sys, "_qsm", None) is not None:
+        raise CheckpointError("checkpoints of the quasi-static mooring mode (mooring='quasistatic') are not "
+                              "supported: its quasi-static line solver keeps a warm start that a checkpoint does "
+                              "not hold; run it without checkpoints")
     check_run(sys, duration, solve_ic=solve_ic and not sys.initialized, dt_out=dt_out, force=force)
     t_start = sys.t
     if sys.n_coupled_dof and t_start + duration > traj.t_end + 1e-9 and motion is not None:

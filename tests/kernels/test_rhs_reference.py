@@ -418,7 +418,8 @@ def run_kernel(model, y, t, motion, kin, cd_scale):
     W.zeta[...] = kin["zeta"]
     W.pU[...] = kin["pU"]
     dy = np.full_like(y, np.nan)
-    rhs(t, y, dy, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, cd_scale, -1)
+    rhs(t, y, dy, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, layout.fl,
+        layout.new_float_work(), cd_scale, -1)
     return layout, W, dy
 
 
@@ -497,7 +498,8 @@ def test_rhs_is_repeatable_and_pure(case):
     name, _, _, layout, W, dy = case
     _, y, t, motion, _, cd_scale = make_case(**CASES[name])
     dy2 = np.zeros_like(dy)
-    rhs(t, y, dy2, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, cd_scale, -1)
+    rhs(t, y, dy2, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, layout.fl,
+        layout.new_float_work(), cd_scale, -1)
     np.testing.assert_array_equal(dy2, dy)
 
 

@@ -129,12 +129,12 @@ def dense_pattern(s):
     lay = s.layout
     n3, n6 = lay.n_rows, lay.n_blocks
     uoff = lay.u_offset
-    L, R, P, E, B, W = s._kernel_arrays()
+    L, R, P, E, B, W, F, FW = s._kernel_arrays()
     y0 = s.y.copy()
     rng = np.random.default_rng(3)
     y0[uoff:] = 0.05 * rng.normal(size=y0.size - uoff)  # moving: drag and damping terms count
     f0 = np.zeros_like(y0)
-    rhs(0.0, y0, f0, L, R, P, E, B, s._motion, W, 1.0, -1)
+    rhs(0.0, y0, f0, L, R, P, E, B, s._motion, W, F, FW, 1.0, -1)
     unit_of_q = [r for r in range(n3) for _ in range(3)] + [n3 + j for j in range(n6) for _ in range(7)]
     unit_of_u = [r for r in range(n3) for _ in range(3)] + [n3 + j for j in range(n6) for _ in range(6)]
     nu = n3 + n6
@@ -146,7 +146,7 @@ def dense_pattern(s):
         if col < uoff and col >= 3 * n3 and (col - 3 * n3) % 7 >= 3:
             q = y[3 * n3 + 7 * ((col - 3 * n3) // 7) + 3:3 * n3 + 7 * ((col - 3 * n3) // 7) + 7]
             q /= np.linalg.norm(q)
-        rhs(0.0, y, f1, L, R, P, E, B, s._motion, W, 1.0, -1)
+        rhs(0.0, y, f1, L, R, P, E, B, s._motion, W, F, FW, 1.0, -1)
         changed = np.nonzero(f1[uoff:] != f0[uoff:])[0]
         cu = unit_of_q[col] if col < uoff else unit_of_u[col - uoff]
         for i in changed:

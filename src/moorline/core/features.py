@@ -3,7 +3,8 @@
 numba compiles a kernel together with every function it may call, whether a given system reaches
 those calls or not: a chain catenary paid for the compilation of the rod, body and wave kernels
 (about two thirds of its first-run compile time). Here the features of a system (rods or bodies,
-water kinematics, bending stiffness, MoorDyn's fixed-point implicit schemes) are a small Python
+water kinematics, bending stiffness, MoorDyn's fixed-point implicit schemes, stick-slip friction,
+floating bodies) are a small Python
 object stored in ``Work.features`` whose numba type names them, so ``Work`` has a different type
 for each combination of features, and
 
@@ -39,8 +40,10 @@ BENDING = "bending"
 FIXED_POINT = "fixed_point"
 #: moorline's stick-slip seabed friction
 STICKSLIP = "stickslip"
+#: floating bodies (potential-flow loads, radiation memory, joints and PTOs)
+FLOATING = "floating"
 #: every feature, in the order they are named
-ALL_FEATURES = (RIGID, WATER, BENDING, FIXED_POINT, STICKSLIP)
+ALL_FEATURES = (RIGID, WATER, BENDING, FIXED_POINT, STICKSLIP, FLOATING)
 
 
 class Features(NamedTuple):
@@ -57,6 +60,7 @@ class Features(NamedTuple):
     bending: bool | None = None
     fixed_point: bool | None = None
     stickslip: bool | None = None
+    floating: bool | None = None
 
     @classmethod
     def of(cls, *names: str) -> Features:
@@ -102,6 +106,9 @@ def features_of(layout, scheme: int | None = None) -> Features:
         names.append(FIXED_POINT)
     if layout.env.fric == FRIC_STICKSLIP or layout.env_ic.fric == FRIC_STICKSLIP:
         names.append(STICKSLIP)
+    fl = getattr(layout, "fl", None)
+    if fl is not None and fl.body.size:
+        names.append(FLOATING)
     return Features.of(*names)
 
 

@@ -48,6 +48,8 @@ import math
 
 import numpy as np
 
+from .features import FLOATING, when
+from .floating import floating_after_step
 from .integrate import RHO_INF, check_state, knot_step, step_end
 from .jacobian import (
     N_STAT,
@@ -124,32 +126,50 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
     col_units = np.argsort(colour, kind="stable").astype(np.int64)
     col_ptr = np.zeros(nc + 1, dtype=np.int64)
     col_ptr[1:] = np.cumsum(np.bincount(colour, minlength=nc))
-    # banded order of the DOFs: reverse Cuthill-McKee, unless the natural order is narrower
+    # the solver's order: bodies (hubs that couple every line they carry) form a border of the last
+    # DOFs, solved by their Schur complement; the rest is banded, in reverse Cuthill-McKee order unless
+    # the natural order is narrower
+    border_units = sorted(n3 + int(j) for j in layout.rigid.body_blk if j >= 0)
+    is_border = np.zeros(nu, dtype=bool)
+    is_border[border_units] = True
+    lead_dofs = np.array([udof[u] + a for u in range(nu) if not is_border[u] for a in range(ncomp[u])],
+                         dtype=np.int64)
+    border_dofs = np.array([udof[u] + a for u in border_units for a in range(ncomp[u])], dtype=np.int64)
+    nl = lead_dofs.size
+    local = -np.ones(ndof, dtype=np.int64)
+    local[lead_dofs] = np.arange(nl)
     rows, cols = [], []
     for u in range(nu):
+        if is_border[u]:
+            continue
         for v in adj[u]:
+            if is_border[v]:
+                continue
             for a in range(ncomp[u]):
                 for b in range(ncomp[v]):
-                    rows.append(udof[u] + a)
-                    cols.append(udof[v] + b)
+                    rows.append(local[udof[u] + a])
+                    cols.append(local[udof[v] + b])
     rows = np.array(rows, dtype=np.int64)
     cols = np.array(cols, dtype=np.int64)
 
-    def width(pinv):
-        d = pinv[rows] - pinv[cols] if rows.size else np.zeros(1, dtype=np.int64)
+    def width(pos):
+        d = pos[rows] - pos[cols] if rows.size else np.zeros(1, dtype=np.int64)
         return int(max(d.max(), 0)), int(max(-d.min(), 0))
 
-    natural = np.arange(ndof, dtype=np.int64)
-    best = (natural, natural)
-    kl, ku = width(natural)
-    if ndof:
-        g = coo_matrix((np.ones(rows.size), (rows, cols)), shape=(ndof, ndof)).tocsr()
-        perm = np.asarray(reverse_cuthill_mckee(g, symmetric_mode=True), dtype=np.int64)
-        pinv = np.empty(ndof, dtype=np.int64)
-        pinv[perm] = np.arange(ndof)
-        kl2, ku2 = width(pinv)
+    order = np.arange(nl, dtype=np.int64)  # leading DOFs (local numbers) in solver order
+    kl, ku = width(order)
+    if nl:
+        g = coo_matrix((np.ones(rows.size), (rows, cols)), shape=(nl, nl)).tocsr()
+        rcm = np.asarray(reverse_cuthill_mckee(g, symmetric_mode=True), dtype=np.int64)
+        pos = np.empty(nl, dtype=np.int64)
+        pos[rcm] = np.arange(nl)
+        kl2, ku2 = width(pos)
         if kl2 + ku2 < kl + ku:
-            best, kl, ku = (perm, pinv), kl2, ku2
+            order, kl, ku = rcm, kl2, ku2
+    perm = np.concatenate([lead_dofs[order], border_dofs]).astype(np.int64)
+    pinv = np.empty(ndof, dtype=np.int64)
+    pinv[perm] = np.arange(ndof)
+    best = (perm, pinv)
     am, af, beta, gamma = gen_alpha_parameters(rho)
     par = np.array([am, af, beta, gamma, atol_x, atol_v, float(max_iter), rho, 1.0, contact_tol, THETA_MAX,
                     SLOW_ITER, GROWTH, PREDICTOR])
@@ -164,32 +184,34 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
                 cn_dof.append(3 * int(L.node_row[n]))
                 cn_area.append(float(L.d[li]) * 0.5 * float(L.seg_l0[s0 + i - 1] + L.seg_l0[s0 + i]))
     return ImplicitArrays(udof, ncomp, adj_ptr, adj_idx, col_ptr, col_units, best[1], best[0],
-                          np.array([kl, ku], dtype=np.int64), par, np.array(cn_node, dtype=np.int64),
+                          np.array([kl, ku, border_dofs.size], dtype=np.int64), par, np.array(cn_node, dtype=np.int64),
                           np.array(cn_dof, dtype=np.int64), np.array(cn_area, dtype=float))
 
 
 def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> ImplicitWork:
     ndof = A.udof.size and int(A.udof[-1] + A.ncomp[-1])
     n = layout.n_state
-    kl, ku = int(A.band[0]), int(A.band[1])
+    kl, ku, nb = int(A.band[0]), int(A.band[1]), int(A.band[2])
+    nl = ndof - nb
     z = np.zeros
     stat = z(N_STAT)
     stat[S_H] = dtM
     return ImplicitWork(z(ndof), z(ndof), z(ndof), z(ndof), z(ndof), z(n), z(ndof), z((3, layout.n_coupled_dof)),
-                        z(n), z(n), z((2 * kl + ku + 1, max(ndof, 1))), np.zeros(max(ndof, 1), dtype=np.int64),
-                        stat, z((2 * kl + ku + 1, max(ndof, 1))), z(ndof), z((3, A.cn_node.size, 8)))
+                        z(n), z(n), z((2 * kl + ku + 1, max(nl, 1))), np.zeros(max(nl, 1), dtype=np.int64),
+                        stat, z((2 * kl + ku + 1, max(nl, 1))), z(ndof), z((3, A.cn_node.size, 8)), z((nb, nl)),
+                        z((nb, nl)), z((nb, nb)), z((nb, nl)), z((nb, nb)), np.zeros(nb, dtype=np.int64))
 
 
 @kernel(inline="always")
-def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
+def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """G = (1 - alpha_m) a1 + alpha_m a0 - (1 - alpha_f) f(t + h, x1, v1) - alpha_f fs; leaves y
     at the end-of-step state and its derivative in IW.f0."""
     par = A.par
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
-    newmark(IW.y0, IW.a0, IW.a1, h, par, y, n3, n6, IW.G)
-    rhs(t + h, y, IW.f0, L, R, P, E, B, Mo, W, par[8], piece)
+    newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
+    rhs(t + h, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
     IW.stat[S_NRHS] += 1
     am = par[0]
     af = par[1]
@@ -210,13 +232,13 @@ def _norm2(v):
 
 
 @kernel(inline="always")
-def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit):
+def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit):
     """fs = f(t, y) (the U part), with the stick-slip anchors committed when ``commit``; remembers
     the coupled kinematics it was evaluated with."""
     uoff = 3 * R.dims[0] + 7 * R.dims[1]
     if commit:
         B.ctl[1] = 1
-    rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, A.par[8], piece)
+    rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, A.par[8], piece)
     B.ctl[1] = 0
     IW.stat[S_NRHS] += 1
     for i in range(IW.fs.size):
@@ -247,7 +269,7 @@ def _coupled_moved(IW, Mo, W, t, piece):
 
 
 @kernel
-def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
+def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """One generalized-alpha step of length ``h`` in place. Returns 0 on convergence, 1 when the
     Newton iterations did not converge (``y`` then restored to the start of the step).
 
@@ -273,7 +295,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     # is evaluated again only when the coupled trajectory moved (one call site of rhs for both)
     commit = B.ctl[0] == 1
     if commit or _coupled_moved(IW, Mo, W, t, piece):
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, piece, commit)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit)
     hp = IW.stat[S_HPREV]
     w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
@@ -289,7 +311,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
     gprev = np.inf
     it = 0
     while it < max_iter:
-        _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece)
+        _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece)
         gnorm = _norm2(IW.G)
         if not np.isfinite(gnorm) and it == 0:
             break
@@ -301,7 +323,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
                 for i in range(nd):
                     IW.da[i] *= 0.5
                     IW.a1[i] -= IW.da[i]
-                _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece)
+                _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece)
                 gnorm = _norm2(IW.G)
                 bt += 1
             IW.stat[S_NBACK] += 1
@@ -315,7 +337,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
             prev = 0.0
         gprev = gnorm
         if rebuild and n_built < 10:
-            if step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece) != 0:
+            if step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece) != 0:
                 break
             n_built += 1
             fresh = True
@@ -344,7 +366,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
         else:
             conv = theta < 1.0 and theta * big <= (1.0 - theta) * tol
         if conv or big <= 1e-3 * tol:
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R.dims[0], R.dims[1], IW.G)
+            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
             # the derivative at the end of the step as the scheme's equation gives it (the last
             # evaluation was one increment earlier); af <= 1/2
             am = par[0]
@@ -390,7 +412,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece):
 
 
 @kernel
-def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_eval):
+def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, F, FW, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` with generalized-alpha steps of at most
     ``dtM``, never across a knot of the coupled trajectory.
 
@@ -411,7 +433,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
         stat[S_HPREV] = 0.0
         # typed constants: literal ones would make numba compile _start_derivative (and rhs) once
         # more for their Literal types (about 4 s each)
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, np.int64(-1), np.bool_(False))
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, np.int64(-1), np.bool_(False))
         for i in range(nd):
             IW.a0[i] = IW.fs[i]
         stat[S_AVALID] = 1.0
@@ -423,7 +445,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
     while t_end - t > tol:
         h, j = knot_step(Mo, j, t, min(h_cur, t_end - t), tol)
         piece = motion_piece(Mo, t + 0.5 * h)
-        if gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, piece) != 0:
+        if gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece) != 0:
             stat[S_NREJ] += 1
             h_cur = 0.5 * h
             if h_cur < hmin:
@@ -432,6 +454,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
             continue
         stat[S_NSTEP] += 1
         t = step_end(Mo, j, t, h, t_end, tol)
+        when(W, FLOATING, floating_after_step, (t, y, R, W, F, FW))
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             stat[S_H] = h_cur
@@ -441,7 +464,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, vmax, final_
             stat[S_EASY] = 0
     stat[S_H] = h_cur
     if final_eval:
-        rhs(t, y, IW.f0, L, R, P, E, B, Mo, W, 1.0, piece)
+        rhs(t, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, piece)
     return t, 0, -1, piece
 
 

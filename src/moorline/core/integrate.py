@@ -14,7 +14,8 @@ from enum import IntEnum
 
 import numpy as np
 
-from .features import FIXED_POINT, when
+from .features import FIXED_POINT, FLOATING, when
+from .floating import floating_after_step
 from .jit import kernel
 from .rhs import motion_piece, rhs
 
@@ -113,7 +114,7 @@ def _axpy(out, y, h, k):
 
 
 @kernel(inline="always")
-def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch;
     for the implicit schemes ``S[3]`` keeps the derivative of the previous step (zero at the
     start), ``sp`` = [c, M, c0, c1] (spec 5.2).
@@ -122,7 +123,7 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     into ``S[s]``): each call site of ``rhs`` passes some 1,500 machine words of arrays, and
     compiling one instead of four roughly halves the compile time of the time loop."""
     if scheme == 3:
-        when(W, FIXED_POINT, _implicit_step, (y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece))
+        when(W, FIXED_POINT, _implicit_step, (y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece))
         return
     yt = S[4]
     n_stages = 1 if scheme == 0 else (2 if scheme == 1 else 4)
@@ -138,7 +139,7 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
             ts = t + a
         # the stick-slip friction anchors are committed at the first stage of every step
         B.ctl[1] = 1 if s == 0 else 0
-        rhs(ts, ys, S[s], L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(ts, ys, S[s], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     if scheme == 0:
         k1 = S[0]
@@ -159,7 +160,7 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
 
 
 @kernel
-def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
+def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's implicit Euler family: M fixed-point iterations of y* = y + c h f, f = f(t + c h, y*),
     relaxed between iterations with rho_m = c0 (1 - 1/M) + c1 (1 - (tanh(4 ((m+1)/M - 1/2)) + 1)/2),
     starting from the derivative of the previous step; then y += h f."""
@@ -175,7 +176,7 @@ def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece):
     for m in range(M):
         _axpy(ys, y, c * h, f)
         B.ctl[1] = 1 if m == 0 else 0
-        rhs(t + c * h, ys, f, L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t + c * h, ys, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         if m < M - 1:
             rel = c0 * (1.0 - 1.0 / M) + c1 * (1.0 - 0.5 * (math.tanh(4.0 * ((m + 1.0) / M - 0.5)) + 1.0))
             for i in range(y.size):
@@ -236,7 +237,7 @@ def step_end(Mo, j, t, h, t_end, tol):
 
 
 @kernel
-def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, final_eval):
+def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
     ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory
     piece) so that the Work arrays describe the state at ``t_end``.
@@ -258,12 +259,13 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vma
     while t_end - t > tol:
         h, j = knot_step(Mo, j, t, min(dtM, t_end - t), tol)
         piece = motion_piece(Mo, t + 0.5 * h)
-        step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, piece)
+        step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         n_steps += 1
         t = step_end(Mo, j, t, h, t_end, tol)
+        when(W, FLOATING, floating_after_step, (t, y, R, W, F, FW))
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             return t, bad, n_steps, piece
     if final_eval:
-        rhs(t, y, S[0], L, R, P, E, B, Mo, W, cd_scale, piece)
+        rhs(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     return t, -1, n_steps, piece

@@ -26,8 +26,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .floating import radiation_trapezoid
 from .jit import kernel
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
+from .numerics import lu_factor, lu_solve, quat_mul
 from .rhs import rhs
 from .seabed import contact_slope, seabed_at
 
@@ -96,9 +98,10 @@ class ImplicitArrays(NamedTuple):
     adj_idx: np.ndarray  # int64: (self included)
     col_ptr: np.ndarray  # int64 (n_colours+1,): CSR of the units of each colour
     col_units: np.ndarray  # int64
-    pinv: np.ndarray  # int64 (n_dof,): position of each DOF in the banded order
-    perm: np.ndarray  # int64 (n_dof,): DOF at each banded position
-    band: np.ndarray  # int64 (2,): kl, ku
+    pinv: np.ndarray  # int64 (n_dof,): position of each DOF in the solver's order
+    perm: np.ndarray  # int64 (n_dof,): DOF at each position
+    band: np.ndarray  # int64 (3,): kl, ku of the leading (banded) block, nb border DOFs (the last nb
+    #                  positions: floating-body blocks, which couple every line they carry)
     par: np.ndarray  # (14,) alpha_m, alpha_f, beta, gamma, atol_x, atol_v, max_iter, rho_inf, drag scale,
     #                 contact update tolerance (0: off), THETA_MAX, SLOW_ITER, GROWTH, PREDICTOR
     cn_node: np.ndarray  # int64 (n_cn,): internal line nodes (seabed contact tracked in the Jacobian)
@@ -124,6 +127,12 @@ class ImplicitWork(NamedTuple):
     ap: np.ndarray  # (n_dof,) algorithmic acceleration at the start of the last accepted step
     cst: np.ndarray  # (3, n_cn, 8): contact terms of the nodes (C_NOW, C_FD, C_APP):
     #                  s [N/(m/s^2)], M^-1 n [1/kg] (3), n (3), s |M^-1 n|
+    LBt: np.ndarray  # (nb, nl): the border columns of the leading rows, transposed
+    BL: np.ndarray  # (nb, nl): the border rows, leading columns
+    BB: np.ndarray  # (nb, nb): the border block
+    Yt: np.ndarray  # (nb, nl): (A_LL^-1 A_LB)^T
+    S: np.ndarray  # (nb, nb): LU factors of the Schur complement A_BB - A_BL A_LL^-1 A_LB
+    spiv: np.ndarray  # int64 (nb,)
 
 
 # ---------------------------------------------------------------------------------------------- structure
@@ -168,6 +177,7 @@ def dependency_graph(layout: Layout) -> list[set]:
             adj[a].update(group)
 
     junction: dict[int, set] = {}
+    at_rod: dict[int, set] = {}  # the units near the line ends on each rod
     for li in range(len(layout.line_N)):
         n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
         w = _line_reach(layout, li)
@@ -183,6 +193,8 @@ def dependency_graph(layout: Layout) -> list[set]:
                 near.update(units[k])
             for u in units[0 if side == 0 else nn - 1]:
                 junction.setdefault(u, set()).update(near)
+            if L.end_kind[li, side] != ATT_POINT:
+                at_rod.setdefault(int(L.end_idx[li, side]), set()).update(near)
     # a body sees everything near the rods it carries; a rod on a body moves with it
     for k in range(len(R.rod_kind)):
         b = int(R.rod_body[k])
@@ -192,8 +204,29 @@ def dependency_graph(layout: Layout) -> list[set]:
         for ru in ([int(R.rod_row[k])] if R.rod_row[k] >= 0 else []) + \
                   ([n3 + int(R.rod_blk[k])] if R.rod_blk[k] >= 0 else []):
             junction.setdefault(bu, set()).update(junction.get(ru, set()) | {ru})
+    # floating bodies solved together (coupling added mass, radiation, joints): each sees what
+    # every member of its group sees, and the members see each other
+    fl = layout.fl
+    for g in range(len(fl.grp_ptr) - 1):
+        units = [n3 + int(R.body_blk[fl.body[f]]) for f in fl.grp_members[fl.grp_ptr[g]:fl.grp_ptr[g + 1]]]
+        if len(units) > 1:
+            shared = set(units)
+            for u in units:
+                shared |= junction.get(u, set())
+            for u in units:
+                junction[u] = shared
+            link(units)
+    # the lines on one rod see each other: a zero-length rod takes its axis from the cables on both
+    # of its ends, and a clamped end's bending couples the first nodes across the rod
+    for near in at_rod.values():
+        link(near)
+    # a junction (free point, rod, body) and the line units near it depend on each other; units of
+    # different lines at a point or a body do not (only through it), so they are linked to it, not
+    # to each other: that keeps a hub's lines apart in the banded order
     for u, near in junction.items():
-        link(near | {u})
+        for v in near:
+            adj[u].add(v)
+            adj[v].add(u)
     return adj
 
 
@@ -297,18 +330,7 @@ def _rotate_quat(q0, o0, tx, ty, tz, out, o):
         s = math.sin(0.5 * ang) / ang
     else:
         s = 0.5 - ang * ang / 48.0
-    rw = math.cos(0.5 * ang)
-    rx = s * tx
-    ry = s * ty
-    rz = s * tz
-    w = q0[o0]
-    x = q0[o0 + 1]
-    y = q0[o0 + 2]
-    z = q0[o0 + 3]
-    out[o] = rw * w - rx * x - ry * y - rz * z
-    out[o + 1] = rw * x + rx * w + ry * z - rz * y
-    out[o + 2] = rw * y - rx * z + ry * w + rz * x
-    out[o + 3] = rw * z + rx * y - ry * x + rz * w
+    quat_mul(math.cos(0.5 * ang), s * tx, s * ty, s * tz, q0, o0, out, o)
 
 
 @kernel
@@ -326,8 +348,12 @@ def displace(y0, dq, y, n3, n6, cq):
 
 
 @kernel
-def newmark(y0, a0, a1, h, par, y1, n3, n6, G):
-    """End-of-step state ``y1`` from (y0, a0, a1); ``G`` is scratch for the position increments."""
+def newmark(y0, a0, a1, h, par, y1, R, F, FW, G):
+    """End-of-step state ``y1`` from (y0, a0, a1), with the radiation states of floating bodies
+    advanced over the step (:func:`~moorline.core.floating.radiation_trapezoid`); ``G`` is scratch
+    for the position increments."""
+    n3 = R.dims[0]
+    n6 = R.dims[1]
     beta = par[2]
     gamma = par[3]
     uoff = 3 * n3 + 7 * n6
@@ -336,6 +362,8 @@ def newmark(y0, a0, a1, h, par, y1, n3, n6, G):
         G[i] = h * y0[uoff + i] + h * h * ((0.5 - beta) * a0[i] + beta * a1[i])
         y1[uoff + i] = y0[uoff + i] + h * ((1.0 - gamma) * a0[i] + gamma * a1[i])
     displace(y0, G, y1, n3, n6, 1.0)
+    if R.dims[2] > 0:
+        radiation_trapezoid(y0, y1, h, R, F, FW)
 
 
 @kernel(inline="always")
@@ -394,6 +422,41 @@ def contact_moved(A, IW, tol, diag):
 
 
 @kernel
+def clear(IW):
+    """Zero the Jacobian storage (band and border) before an assembly."""
+    IW.AB[:, :] = 0.0
+    IW.LBt[:, :] = 0.0
+    IW.BL[:, :] = 0.0
+    IW.BB[:, :] = 0.0
+
+
+@kernel
+def factor(A, IW):
+    """Factor the assembled Jacobian: banded LU of the leading block and, with border DOFs, the LU
+    of the Schur complement A_BB - A_BL A_LL^-1 A_LB. Returns 0, or nonzero for a zero pivot."""
+    kl = A.band[0]
+    ku = A.band[1]
+    nb = A.band[2]
+    nl = IW.a1.size - nb
+    st = band_lu(IW.AB, nl, kl, ku, IW.piv) if nl > 0 else 0
+    if st != 0 or nb == 0:
+        return st
+    for c in range(nb):
+        y = IW.Yt[c]
+        for i in range(nl):
+            y[i] = IW.LBt[c, i]
+        if nl > 0:
+            band_solve(IW.AB, nl, kl, ku, IW.piv, y)
+    for r in range(nb):
+        for c in range(nb):
+            s = IW.BB[r, c]
+            for i in range(nl):
+                s -= IW.BL[r, i] * IW.Yt[c, i]
+            IW.S[r, c] = s
+    return 0 if lu_factor(IW.S, 0, nb, IW.spiv) else nl + 1
+
+
+@kernel
 def refactor(A, IW):
     """Factor the finite-difference Jacobian with its contact terms moved from the iterate it was
     built at (C_FD) to the last evaluation (C_NOW). Returns the LU status."""
@@ -418,16 +481,17 @@ def refactor(A, IW):
         for k in range(8):
             cst[C_APP, m, k] = cst[C_NOW, m, k]
     IW.stat[S_NFAC] += 1
-    return band_lu(AB, IW.a1.size, A.band[0], A.band[1], IW.piv)
+    return factor(A, IW)
 
 
 @kernel
 def assemble(A, IW, f0, f1, uoff, cu, k, diag, scale, eps):
     """Columns of colour (cu, component k) from the derivative difference f1 - f0:
-    J[i, j] = diag [i == j] - scale (f1_i - f0_i) / eps_j, into the band storage."""
+    J[i, j] = diag [i == j] - scale (f1_i - f0_i) / eps_j, into the band and border storage."""
     kl = A.band[0]
     ku = A.band[1]
     kv = kl + ku
+    nl = IW.a1.size - A.band[2]
     AB = IW.AB
     pinv = A.pinv
     for m in range(A.col_ptr[cu], A.col_ptr[cu + 1]):
@@ -445,7 +509,15 @@ def assemble(A, IW, f0, f1, uoff, cu, k, diag, scale, eps):
                 val = -(f1[uoff + row] - f0[uoff + row]) * inv
                 if row == col:
                     val += diag
-                AB[kv + pinv[row] - pc, pc] = val
+                pr = pinv[row]
+                if pr < nl and pc < nl:
+                    AB[kv + pr - pc, pc] = val
+                elif pr < nl:
+                    IW.LBt[pc - nl, pr] = val
+                elif pc < nl:
+                    IW.BL[pr - nl, pc] = val
+                else:
+                    IW.BB[pr - nl, pc - nl] = val
 
 
 @kernel
@@ -477,7 +549,7 @@ def shift_colour(A, cu, k, v, eps, sign):
 
 
 @kernel(inline="always")
-def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
+def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """Jacobian of the generalized-alpha residual with respect to a1 at the current iterate
     (IW.f0 must hold the derivative at the iterate), factored in place. Returns the LU status."""
     par = A.par
@@ -486,10 +558,9 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
     uoff = 3 * n3 + 7 * n6
     af = par[1]
     beta = par[2]
-    nd = IW.a1.size
     # position perturbation ~ 1e-8 of the coordinate (at least 1e-8 m or rad)
     fd_steps(IW, n3, n6, 1e-8, beta * h * h)
-    IW.AB[:, :] = 0.0
+    clear(IW)
     f1 = IW.f1
     nc = A.col_ptr.size - 1
     kmax = 6 if n6 > 0 else 3
@@ -498,8 +569,8 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
         for k in range(kmax):
             if not shift_colour(A, cu, k, IW.a1, IW.eps, 1.0):
                 continue
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, n3, n6, scratch)
-            rhs(t + h, y, f1, L, R, P, E, B, Mo, W, par[8], piece)
+            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, scratch)
+            rhs(t + h, y, f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
             IW.stat[S_NRHS] += 1
             shift_colour(A, cu, k, IW.a1, IW.eps, -1.0)
             assemble(A, IW, IW.f0, f1, uoff, cu, k, 1.0 - par[0], 1.0 - af, IW.eps)
@@ -511,17 +582,34 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, piece):
             for k in range(8):
                 IW.cst[C_FD, m, k] = IW.cst[C_NOW, m, k]
                 IW.cst[C_APP, m, k] = IW.cst[C_NOW, m, k]
-    return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
+    return factor(A, IW)
 
 
 @kernel
 def solve_increment(A, IW):
-    """da = -J^{-1} G (through the banded order)."""
+    """da = -J^{-1} G (through the solver's order: the banded leading block, then the border by its
+    Schur complement)."""
     nd = IW.G.size
+    nb = A.band[2]
+    nl = nd - nb
     b = IW.da
     for p in range(nd):
         b[p] = -IW.G[A.perm[p]]
-    band_solve(IW.AB, nd, A.band[0], A.band[1], IW.piv, b)
+    if nl > 0:
+        band_solve(IW.AB, nl, A.band[0], A.band[1], IW.piv, b)
+    if nb > 0:
+        xb = IW.f1  # scratch (restored below from b)
+        for r in range(nb):
+            s = b[nl + r]
+            for i in range(nl):
+                s -= IW.BL[r, i] * b[i]
+            xb[r] = s
+        lu_solve(IW.S, 0, nb, IW.spiv, xb)
+        for r in range(nb):
+            b[nl + r] = xb[r]
+            x = xb[r]
+            for i in range(nl):
+                b[i] -= IW.Yt[r, i] * x
     # back to DOF order, through f1 as scratch
     tmp = IW.f1
     for p in range(nd):

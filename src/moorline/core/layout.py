@@ -81,14 +81,15 @@ BODY_FREE = int(BodyKind.FREE)
 class RigidArrays(NamedTuple):
     """Rods and bodies, and the sizes of the state blocks.
 
-    The state ``y = [Q | U]``: ``Q`` holds 3 numbers per 3-DOF row (internal line nodes, free
+    The state ``y = [Q | U | Z]``: ``Q`` holds 3 numbers per 3-DOF row (internal line nodes, free
     points, free zero-length rods) then 7 per 6-DOF block (position, unit quaternion w x y z),
-    ``U`` 3 per row (velocity) then 6 per block (velocity, angular velocity in global axes).
+    ``U`` 3 per row (velocity) then 6 per block (velocity, angular velocity in global axes), ``Z``
+    the radiation states of floating bodies (first order, :mod:`moorline.core.floating`).
     6-DOF blocks belong to free rods, pinned rods (all kinds) and free and coupled-pinned bodies;
     the translational part of a pinned object's block is not used (its parent sets it).
     """
 
-    dims: np.ndarray  # int64 (2,): n3 rows, n6 blocks
+    dims: np.ndarray  # int64 (3,): n3 rows, n6 blocks, nz radiation states (after U, see core.floating)
     rod_kind: np.ndarray  # int64 (nr,) ROD_*
     rod_N: np.ndarray  # int64 (nr,) segments (0: zero-length rod)
     rod_body: np.ndarray  # int64 (nr,) parent body, -1 if none
@@ -146,6 +147,7 @@ class EnvArrays(NamedTuple):
     kshear: float  # stick-slip friction spring stiffness per contact area [Pa/m]
     cshear: float  # stick-slip friction spring damping per contact area [Pa s/m]
     water: object  # core.waterkin.WaterKin: waves and current
+    exc: object  # core.floating.ExcitationArrays: wave excitation of the floating bodies
     #: penetration [m] over which the seabed contact damping grows from zero to full (0: MoorDyn's
     #: step at first contact; the implicit scheme needs a continuous contact force, see System)
     bed_ramp: float = 0.0
@@ -236,6 +238,153 @@ class Work(NamedTuple):
     dense: np.ndarray  # (6, 7) augmented matrix of the small dense solves
 
 
+# ------------------------------------------------------------------------ floating bodies
+# force components of FloatWork.F (per floating body, 6-vectors about the reference point)
+FC_EXCITATION = 0
+FC_RADIATION = 1  # memory part; the A_inf part acts through the mass matrix
+FC_HYDROSTATIC = 2
+FC_DAMPING = 3  # extra linear and quadratic damping
+FC_MORISON = 4
+FC_PTO = 5
+FC_EXTRA = 6  # extra stiffness and constant load
+FC_MOORING = 7  # quasi-static mooring (linearised over a step), in the quasi-static mode only
+N_FC = 8
+FC_NAMES = ("excitation", "radiation", "hydrostatic", "damping", "morison", "pto", "extra", "quasistatic_mooring")
+
+# FloatArrays.ctl
+CTL_RADIATION = 0  # 0: state space, 1: convolution
+CTL_QS_MOORING = 1  # 1: the quasi-static mooring load ql_F - ql_K (pose - ql_x0) acts
+RAD_STATE_SPACE = 0
+RAD_CONVOLUTION = 1
+# ExcitationArrays.ctl[0]
+EXC_OFF = 0
+EXC_SUM = 1
+EXC_TABLE = 2
+
+
+class FloatArrays(NamedTuple):
+    """Floating bodies (``nf``), their groups, radiation models, joints and Morison strips.
+    Global floating DOF ``6 f + d`` is DOF ``d`` (surge ... yaw) of floating body ``f``."""
+
+    body: np.ndarray  # int64 (nf,): deck body of each floating body
+    of_body: np.ndarray  # int64 (nb,): floating body of each deck body, -1 if it does not float
+    grouped: np.ndarray  # int64 (nf,): 1 when solved with its group (several members or a joint)
+    grp_ptr: np.ndarray  # int64 (ng+1,): group g holds grp_members[grp_ptr[g]:grp_ptr[g+1]]
+    grp_members: np.ndarray  # int64 (nf,)
+    dof_y: np.ndarray  # int64 (6 nf,): index in the state of each DOF's velocity
+    C: np.ndarray  # (nf, 6, 6) buoyancy part of the hydrostatic stiffness about the reference point
+    F0: np.ndarray  # (nf, 6) buoyancy at rest: force and moment about the reference point
+    pose0: np.ndarray  # (nf, 3) mean reference-point position [m]
+    R0: np.ndarray  # (nf, 3, 3) mean orientation
+    Blin: np.ndarray  # (nf, 6, 6)
+    Bquad: np.ndarray  # (nf, 6, 6)
+    Kext: np.ndarray  # (nf, 6, 6)
+    Fc: np.ndarray  # (nf, 6)
+    Ainf: np.ndarray  # (6 nf, 6 nf) infinite-frequency added mass (zero between groups)
+    ss_i: np.ndarray  # int64 (npair,): influenced DOF of each state-space pair
+    ss_j: np.ndarray  # int64 (npair,): radiating DOF
+    ss_ptr: np.ndarray  # int64 (npair+1,): pair p owns states ss_ptr[p]:ss_ptr[p+1]
+    ss_A: np.ndarray  # (nz, max order): row r of pair p is ss_A[ss_ptr[p] + r, :order]
+    ss_B: np.ndarray  # (nz,)
+    ss_C: np.ndarray  # (nz,)
+    irf: np.ndarray  # (nt, 6 nf, 6 nf): K[radiating, influenced] at t = k dt (convolution only)
+    child_joint: np.ndarray  # int64 (nf,): joint whose child the body is, -1 if none
+    jt_child: np.ndarray  # int64 (nj,): floating body that slides
+    jt_parent: np.ndarray  # int64 (nj,): floating body it slides on, -1: a fixed axis
+    jt_axis: np.ndarray  # (nj, 3): slide direction, parent body axes (global for a fixed axis)
+    jt_d0: np.ndarray  # (nj, 3): child reference point at s = 0, parent body axes from the parent's
+    #                    reference point (a fixed axis: global position)
+    jt_q: np.ndarray  # (nj, 4): child orientation relative to the parent's (a fixed axis: absolute)
+    jt_k: np.ndarray  # (nj,) PTO stiffness [N/m]
+    jt_c: np.ndarray  # (nj,) PTO damping [N s/m]
+    jt_s0: np.ndarray  # (nj,) slide at which the PTO spring is relaxed [m]
+    ms_fb: np.ndarray  # int64 (ns,): floating body of each Morison strip
+    ms_rA: np.ndarray  # (ns, 3) body axes
+    ms_rB: np.ndarray  # (ns, 3)
+    ms_d: np.ndarray  # (ns,)
+    ms_Cd: np.ndarray  # (ns,)
+    ms_n: np.ndarray  # int64 (ns,)
+    ql_F: np.ndarray  # (6 nf,): quasi-static mooring load at the pose ql_x0 [N, N m]
+    ql_K: np.ndarray  # (6 nf, 6 nf): its stiffness with respect to the pose (Euler angles) [N/m, N/rad, ...]
+    ql_x0: np.ndarray  # (6 nf,): the pose it was linearised about (x, y, z, roll, pitch, yaw, Rx Ry Rz)
+    par: np.ndarray  # (2,): impulse-response sampling interval [s], joint pull-back rate [1/s]
+    ctl: np.ndarray  # int64 (2,): radiation method, quasi-static mooring on (1) or off (0)
+
+
+class ExcitationArrays(NamedTuple):
+    """The wave excitation of the floating DOFs (part of the environment: off while the initial
+    conditions are found, as the waves are)."""
+
+    ctl: np.ndarray  # int64 (1,): EXC_OFF, EXC_SUM or EXC_TABLE
+    par: np.ndarray  # (3,): ramp time [s], table interval [s], table period [s]
+    w: np.ndarray  # (nc,) component frequencies [rad/s] (EXC_SUM)
+    Xr: np.ndarray  # (nc, 6 nf): F = sum_j Xr cos(w_j t) - Xi sin(w_j t) [N, N m]
+    Xi: np.ndarray  # (nc, 6 nf)
+    G: np.ndarray  # (n_table + 1, 6 nf): force at k dt over one period (EXC_TABLE; last = first)
+    dG: np.ndarray  # (n_table + 1, 6 nf): its time derivative
+
+
+class FloatWork(NamedTuple):
+    F: np.ndarray  # (nf, N_FC, 6) load components
+    xi: np.ndarray  # (nf, 6) displacement from the mean pose
+    vel: np.ndarray  # (6 nf,) velocities
+    Mg: np.ndarray  # (6 nf, 6 nf) group mass matrix
+    Fg: np.ndarray  # (6 nf,) group loads, then F - M gamma
+    T: np.ndarray  # (6 nf, 6 nf) reduced-coordinate map of a group
+    gam: np.ndarray  # (6 nf,) velocity-dependent accelerations of a group
+    MT: np.ndarray  # (6 nf, 6 nf) scratch M T
+    Mr: np.ndarray  # (6 nf, 6 nf) reduced mass matrix
+    Fr: np.ndarray  # (6 nf,) reduced loads
+    qa: np.ndarray  # (6 nf,) reduced accelerations
+    dense: np.ndarray  # (6 nf, 6 nf + 1) augmented matrix of the dense solves
+    jt: np.ndarray  # (nj, 3): slide s [m], rate [m/s], PTO power c s'^2 [W]
+    fk: np.ndarray  # (8,) water kinematics at one point
+    m33: np.ndarray  # (2, 3, 3) scratch
+    lu: np.ndarray  # (nz, max order): LU factors of (I - h/2 A) of each pair
+    lu_piv: np.ndarray  # int64 (nz,)
+    lu_h: np.ndarray  # (npair,): step h the factors belong to (0: none)
+    zv: np.ndarray  # (max order,) scratch
+    hist: np.ndarray  # (nt, 6 nf): velocity at t = k dt, ring buffer (convolution)
+    hctl: np.ndarray  # int64 (2,): index of the next sample, index of the first since the last restart
+    hpar: np.ndarray  # (1,): time of the last step end recorded [s]
+    vlast: np.ndarray  # (6 nf,): velocities at that time
+    jerr: np.ndarray  # (12,): a joint's position/rotation and velocity errors
+    qpose: np.ndarray  # (6 nf,): the poses of the floating bodies (quasi-static mooring)
+    eye3: np.ndarray  # (3, 3) identity
+
+
+def empty_float_arrays(n_bodies: int) -> FloatArrays:
+    """The FloatArrays of a model without floating bodies."""
+    zi = np.zeros(0, dtype=np.int64)
+    z = np.zeros
+    return FloatArrays(zi, -np.ones(n_bodies, dtype=np.int64), zi, np.zeros(1, dtype=np.int64), zi, zi,
+                       z((0, 6, 6)), z((0, 6)), z((0, 3)), z((0, 3, 3)), z((0, 6, 6)), z((0, 6, 6)), z((0, 6, 6)),
+                       z((0, 6)), z((0, 0)), zi, zi, np.zeros(1, dtype=np.int64), z((0, 1)), z(0), z(0), z((0, 0, 0)),
+                       zi, zi, zi, z((0, 3)), z((0, 3)), z((0, 4)), z(0), z(0), z(0), zi, z((0, 3)), z((0, 3)), z(0),
+                       z(0), zi, z(0), z((0, 0)), z(0), np.array([1.0, 0.0]), np.zeros(2, dtype=np.int64))
+
+
+def no_excitation(n_dof: int) -> ExcitationArrays:
+    """Excitation switched off (still water, or while the initial conditions are found)."""
+    z = np.zeros
+    return ExcitationArrays(np.array([EXC_OFF], dtype=np.int64), np.array([0.0, 1.0, 1.0]), z(0), z((0, n_dof)),
+                            z((0, n_dof)), z((1, n_dof)), z((1, n_dof)))
+
+
+def new_float_work(F: FloatArrays) -> FloatWork:
+    nf = F.body.size
+    nd = 6 * nf
+    nj = F.jt_child.size
+    nz = F.ss_B.size
+    mo = F.ss_A.shape[1]
+    z = np.zeros
+    return FloatWork(z((nf, N_FC, 6)), z((nf, 6)), z(nd), z((nd, nd)), z(nd), z((nd, nd)), z(nd), z((nd, nd)),
+                     z((nd, nd)), z(nd), z(nd), z((max(nd, 1), nd + 1)), z((nj, 3)), z(8), z((2, 3, 3)),
+                     z((nz, mo)), np.zeros(nz, dtype=np.int64), z(F.ss_i.size), z(mo), z((F.irf.shape[0], nd)),
+                     np.zeros(2, dtype=np.int64), z(1), z(nd), z(12), z(nd), np.eye(3))
+
+
+
 class Motion(NamedTuple):
     """Imposed coupled-DOF trajectory: piecewise cubic polynomials in time.
 
@@ -267,9 +416,22 @@ class Layout:
     coupled_rods: list
     coupled_bodies: list
     env_ic: EnvArrays  # env with the water kinematics of the initial-condition solve (waves off)
+    #: the floating bodies (their own arguments of the kernels, so that the rigid-body and work
+    #: tuples every kernel receives stay small: numba passes a tuple's arrays field by field)
+    fl: FloatArrays = None
 
     @property
     def n_state(self) -> int:
+        return 6 * self.n_rows + 13 * self.n_blocks + self.n_radiation
+
+    @property
+    def n_radiation(self) -> int:
+        """Number of radiation states of floating bodies (at the end of the state)."""
+        return int(self.rigid.dims[2])
+
+    @property
+    def z_offset(self) -> int:
+        """Index in the state where the radiation states start."""
         return 6 * self.n_rows + 13 * self.n_blocks
 
     @property
@@ -308,6 +470,9 @@ class Layout:
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
                     ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)))
 
+    def new_float_work(self) -> FloatWork:
+        return new_float_work(self.fl)
+
 
 def effective_depth(model: Model) -> float:
     """Water depth after MoorDyn's rule: never shallower than the deepest point (flat seabed only;
@@ -323,8 +488,13 @@ def effective_depth(model: Model) -> float:
     return float(depth)
 
 
-def build_layout(model: Model) -> Layout:
-    """Validate ``model`` and build the flat arrays of :class:`Layout`."""
+def build_layout(model: Model, floating=None) -> Layout:
+    """Validate ``model`` and build the flat arrays of :class:`Layout`.
+
+    ``floating``: ``(FloatArrays, ExcitationArrays)`` of the floating bodies, as
+    :func:`moorline.system.floating.floating_arrays` prepares them from the model's
+    hydrodynamics (None: no floating bodies). Their state indices (``dof_y``) are filled here.
+    """
     model.validate()
     nl = len(model.lines)
     N = np.array([ln.N for ln in model.lines], dtype=np.int64)
@@ -453,8 +623,13 @@ def build_layout(model: Model) -> Layout:
     lines = LineArrays(node_ptr, seg_ptr, end_kind, end_idx, clamped, props["d"], props["A"], props["w"],
                        props["Cd"], props["Ca"], props["CdAx"], props["CaAx"], ea_tab, ba_tab, EI, ei_tab, seg_l0,
                        seg_EA, seg_BA, np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row)
-    rigid = _rigid_arrays(model, np.array([row, nblk], dtype=np.int64), rod_blk, rod_row, rod_cpl, body_blk,
-                          body_cpl)
+    if floating is None:
+        fl, exc = empty_float_arrays(len(model.bodies)), no_excitation(0)
+    else:
+        fl, exc = floating
+        fl = _place_floating(fl, row, nblk, body_blk)
+    rigid = _rigid_arrays(model, np.array([row, nblk, fl.ss_B.size], dtype=np.int64), rod_blk, rod_row, rod_cpl,
+                          body_blk, body_cpl)
     e = model.env
     muT, muA, mc, cv = e.friction_coefficients()
     fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
@@ -464,7 +639,7 @@ def build_layout(model: Model) -> Layout:
     n_ext = nn + int(rigid.rod_node_ptr[-1]) + npnt + len(model.bodies) + 1
     water, water_ic = _water(model, depth, n_ext)
     env = EnvArrays(float(e.g), float(e.rho), depth, float(e.kBot), float(e.cBot), contact, fric,
-                    float(muT), float(muA), float(mc), float(cv), kshear, float(e.cBot), water)
+                    float(muT), float(muA), float(mc), float(cv), kshear, float(e.cBot), water, exc)
     b = e.bathymetry
     if b is None:
         grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
@@ -473,7 +648,7 @@ def build_layout(model: Model) -> Layout:
     seabed = Seabed(*grid, np.zeros((nn, 3)), np.zeros((nn, 2)), np.zeros(3, dtype=np.int64))
     return Layout(lines, rigid, points, env, seabed, row, nblk, off, N, line_L,
                   [ln.line_type for ln in model.lines], model.coupled_points, model.coupled_rods, model.coupled_bodies,
-                  env._replace(water=water_ic))
+                  env._replace(water=water_ic, exc=no_excitation(exc.Xr.shape[1])), fl)
 
 
 def _water(model: Model, depth: float, n_ext: int):
@@ -481,7 +656,8 @@ def _water(model: Model, depth: float, n_ext: int):
     initial-condition solve (waves off, current on, as MoorDyn does, spec 6.1)."""
 
     e = model.env
-    if e.waves is None and e.current is None:
+    waves = e.waves if e.waves_on_lines else None
+    if waves is None and e.current is None:
         still = still_water(max(depth, 1e-9), e.g, e.rho)
         return still, still
     pts = [model.end_position(a) for ln in model.lines for a in (ln.end_a, ln.end_b)]
@@ -496,7 +672,7 @@ def _water(model: Model, depth: float, n_ext: int):
     bbox = np.array([lo, hi])
     bathy = e.bathymetry
     kw = dict(depth=depth, g=e.g, rho=e.rho, bbox=bbox, bathymetry=bathy)
-    water = build_water_kinematics(e.waves, e.current, n_external=n_ext, **kw)
+    water = build_water_kinematics(waves, e.current, n_external=n_ext, **kw)
     water_ic = build_water_kinematics(None, e.current, n_external=n_ext, **kw)
     return water, water_ic
 
@@ -554,6 +730,18 @@ def body_mass_matrix(body, rho: float) -> np.ndarray:
     M[3:, 3:] = np.diag(body.I) - m * S @ S
     M[:3, :3] += np.diag(rho * body.V * body.Ca)
     return M
+
+
+def _place_floating(fl: FloatArrays, n3: int, n6: int, body_blk) -> FloatArrays:
+    """The floating arrays with the state index of each floating DOF's velocity."""
+    dof_y = np.zeros(6 * fl.body.size, dtype=np.int64)
+    uoff = 3 * n3 + 7 * n6
+    for f, i in enumerate(fl.body):
+        j = int(body_blk[i])
+        if j < 0:
+            raise ValueError(f"body {i + 1} floats but is not a free body")
+        dof_y[6 * f:6 * f + 6] = uoff + 3 * n3 + 6 * j + np.arange(6)
+    return fl._replace(dof_y=dof_y)
 
 
 def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_cpl) -> RigidArrays:

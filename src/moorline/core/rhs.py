@@ -2,20 +2,25 @@
 
 Order of one evaluation (spec 3.16): coupled and free point kinematics; line end nodes copy their
 points; internal nodes from the state; line loads and internal-node accelerations; points collect
-the end forces and masses of their lines and solve their own equations.
+the end forces and masses of their lines and solve their own equations; rods, then the loads the
+rods and points pass to their bodies and the bodies' own; the potential-flow loads of floating
+bodies (:mod:`.floating`) and the solve of bodies coupled by added mass or joints; the other bodies'
+equations of motion.
 """
 
 from __future__ import annotations
 
 import math
 
-from .features import RIGID, WATER, when
+from .features import FLOATING, RIGID, WATER, when
+from .floating import floating_loads, floating_motion
 from .jit import kernel
 from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
 from .numerics import bracket
 from .rigid import (
     body_kinematics,
+    body_motion,
     body_point_kinematics,
     rigid_dynamics,
     rod_kinematics,
@@ -207,7 +212,7 @@ def point_loads(P, E, W, cd_scale):
 
 
 @kernel
-def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
+def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
     Parameters
@@ -217,6 +222,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
     y, dy : ndarray (n_state,)
         State ``[q | u]`` and its derivative ``[u | a]``.
     L, R, P, E, B, Mo, W : LineArrays, RigidArrays, PointArrays, EnvArrays, Seabed, Motion, Work
+    F, FW : FloatArrays, FloatWork (the floating bodies; empty arrays when nothing floats)
     cd_scale : float
         Drag multiplier (CdScaleIC during dynamic relaxation, else 1).
     piece : int
@@ -240,7 +246,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
     pF = W.pF
     pM = W.pM
     pa = W.pa
-    F = W.F
+    Fn = W.F
     mass = W.mass
     q = W.q
     acc = W.acc
@@ -265,13 +271,13 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
             if end_kind[li, j] == ATT_POINT:
                 p = end_idx[li, j]
                 for c in range(3):
-                    pF[p, c] += F[n, c]
+                    pF[p, c] += Fn[n, c]
                 add_end_mass(pM, p, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
             else:
                 k = end_idx[li, j]
                 e = 0 if end_kind[li, j] == ATT_ROD_A else 1
                 for c in range(3):
-                    rodF[k, e, c] += F[n, c]
+                    rodF[k, e, c] += Fn[n, c]
                     # the bending moment of a clamped cable end acts on the rod (zero when pinned)
                     rodMext[k, c] += end_moment[li, j, c]
                 add_end_mass(rodEM, 2 * k + e, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
@@ -297,3 +303,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, cd_scale, piece):
         if nrod > 0:
             when(W, RIGID, rod_loads, (R, E, B, W, cd_scale))
         when(W, RIGID, rigid_dynamics, (y, dy, R, P, E, W))
+        if F.body.size > 0:
+            when(W, FLOATING, floating_loads, (t, y, dy, R, E, W, F, FW))
+            when(W, FLOATING, floating_motion, (R, W, F, FW))
+        when(W, RIGID, body_motion, (y, dy, R, W, F))

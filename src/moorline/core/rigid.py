@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from .jit import kernel
 from .layout import (
     ATT_POINT,
@@ -33,173 +31,17 @@ from .layout import (
     ROD_FIXED,
     ROD_FREE,
 )
+from .numerics import (
+    add_translated3,
+    add_translated6,
+    cross3,
+    euler_R,
+    matvec3,
+    quat_rate,
+    quat_to_R,
+    solve_dense,
+)
 from .seabed import _ramp, seabed_at
-
-# ---------------------------------------------------------------------------------- small algebra
-
-
-@kernel
-def quat_to_R(y, o, Rm):
-    """Rotation matrix of the quaternion ``y[o:o+4]`` (normalised here) into ``Rm`` (3, 3)."""
-    w = y[o]
-    x = y[o + 1]
-    yy = y[o + 2]
-    z = y[o + 3]
-    n = math.sqrt(w * w + x * x + yy * yy + z * z)
-    if n > 0.0:
-        w /= n
-        x /= n
-        yy /= n
-        z /= n
-    else:
-        w = 1.0
-    Rm[0, 0] = 1.0 - 2.0 * (yy * yy + z * z)
-    Rm[0, 1] = 2.0 * (x * yy - w * z)
-    Rm[0, 2] = 2.0 * (x * z + w * yy)
-    Rm[1, 0] = 2.0 * (x * yy + w * z)
-    Rm[1, 1] = 1.0 - 2.0 * (x * x + z * z)
-    Rm[1, 2] = 2.0 * (yy * z - w * x)
-    Rm[2, 0] = 2.0 * (x * z - w * yy)
-    Rm[2, 1] = 2.0 * (yy * z + w * x)
-    Rm[2, 2] = 1.0 - 2.0 * (x * x + yy * yy)
-
-
-@kernel
-def quat_rate(y, o, wx, wy, wz, dy, od):
-    """dQ/dt = 0.5 (0, omega) (x) Q for the quaternion ``y[o:o+4]``, omega in global axes."""
-    w = y[o]
-    x = y[o + 1]
-    yy = y[o + 2]
-    z = y[o + 3]
-    dy[od] = -0.5 * (wx * x + wy * yy + wz * z)
-    dy[od + 1] = 0.5 * (wx * w + wy * z - wz * yy)
-    dy[od + 2] = 0.5 * (wy * w + wz * x - wx * z)
-    dy[od + 3] = 0.5 * (wz * w + wx * yy - wy * x)
-
-
-@kernel
-def euler_R(roll, pitch, yaw, Rm):
-    """Rm = Rx(roll) Ry(pitch) Rz(yaw) (MoorDyn's coupling and deck convention)."""
-    cr = math.cos(roll)
-    sr = math.sin(roll)
-    cp = math.cos(pitch)
-    sp = math.sin(pitch)
-    cy = math.cos(yaw)
-    sy = math.sin(yaw)
-    Rm[0, 0] = cp * cy
-    Rm[0, 1] = -cp * sy
-    Rm[0, 2] = sp
-    Rm[1, 0] = cr * sy + sr * sp * cy
-    Rm[1, 1] = cr * cy - sr * sp * sy
-    Rm[1, 2] = -sr * cp
-    Rm[2, 0] = sr * sy - cr * sp * cy
-    Rm[2, 1] = sr * cy + cr * sp * sy
-    Rm[2, 2] = cr * cp
-
-
-@kernel
-def solve_dense(A, b, x, n, a):
-    """Solve the n x n system A x = b (Gaussian elimination with partial pivoting) without
-    changing A or b, in the scratch ``a`` (at least n x (n + 1)). Returns False (x = NaN) if A is
-    singular."""
-    for i in range(n):
-        for j in range(n):
-            a[i, j] = A[i, j]
-        a[i, n] = b[i]
-    for c in range(n):
-        p = c
-        big = abs(a[c, c])
-        for i in range(c + 1, n):
-            if abs(a[i, c]) > big:
-                big = abs(a[i, c])
-                p = i
-        if not big > 0.0:
-            for i in range(n):
-                x[i] = np.nan
-            return False
-        if p != c:
-            for j in range(c, n + 1):
-                tmp = a[c, j]
-                a[c, j] = a[p, j]
-                a[p, j] = tmp
-        for i in range(c + 1, n):
-            f = a[i, c] / a[c, c]
-            if f != 0.0:
-                for j in range(c, n + 1):
-                    a[i, j] -= f * a[c, j]
-    for i in range(n - 1, -1, -1):
-        s = a[i, n]
-        for j in range(i + 1, n):
-            s -= a[i, j] * x[j]
-        x[i] = s / a[i, i]
-    return True
-
-
-@kernel
-def _skew(S, rx, ry, rz):
-    """S a = r x a."""
-    S[0, 0] = 0.0
-    S[0, 1] = -rz
-    S[0, 2] = ry
-    S[1, 0] = rz
-    S[1, 1] = 0.0
-    S[1, 2] = -rx
-    S[2, 0] = -ry
-    S[2, 1] = rx
-    S[2, 2] = 0.0
-
-
-@kernel
-def add_translated3(M6, M3, rx, ry, rz, S):
-    """M6 += T^T [[M3, 0], [0, 0]] T for a point mass matrix M3 at offset r: the blocks
-    [[M3, -M3 S], [S M3, -S M3 S]], S = S(r). ``S`` is (3, 3) scratch."""
-    add_translated6(M6, M3, M3, M3, M3, 1, rx, ry, rz, S)
-
-
-@kernel
-def add_translated6(Md, A, Bm, C, D, point_only, rx, ry, rz, S):
-    """Md += T^T [[A, Bm], [C, D]] T, T = [[I, -S], [0, I]], S = S(r): a mass about a point offset
-    by r moved to the parent's point. With ``point_only`` the blocks Bm, C, D are taken as zero
-    (a point mass A). ``S`` is (3, 3) scratch."""
-    _skew(S, rx, ry, rz)
-    for i in range(3):
-        for j in range(3):
-            AS = 0.0
-            SA = 0.0
-            for k in range(3):
-                AS += A[i, k] * S[k, j]
-                SA += S[i, k] * A[k, j]
-            Md[i, j] += A[i, j]
-            Md[i, 3 + j] -= AS
-            Md[3 + i, j] += SA
-            if point_only == 0:
-                Md[i, 3 + j] += Bm[i, j]
-                Md[3 + i, j] += C[i, j]
-                Md[3 + i, 3 + j] += D[i, j]
-    # rotational block: - S A S (+ S Bm - C S)
-    for i in range(3):
-        for j in range(3):
-            v = 0.0
-            for k in range(3):
-                ASkj = 0.0
-                for m in range(3):
-                    ASkj += A[k, m] * S[m, j]
-                v -= S[i, k] * ASkj
-                if point_only == 0:
-                    v += S[i, k] * Bm[k, j] - C[i, k] * S[k, j]
-            Md[3 + i, 3 + j] += v
-
-
-@kernel(inline="always")
-def _cross(ax, ay, az, bx, by, bz):
-    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-
-
-@kernel(inline="always")
-def _matvec(Rm, x, y, z):
-    """Rm (x, y, z) for a 3x3 matrix Rm."""
-    return (Rm[0, 0] * x + Rm[0, 1] * y + Rm[0, 2] * z, Rm[1, 0] * x + Rm[1, 1] * y + Rm[1, 2] * z,
-            Rm[2, 0] * x + Rm[2, 1] * y + Rm[2, 2] * z)
 
 
 @kernel
@@ -268,8 +110,8 @@ def body_kinematics(y, R, W):
 @kernel
 def _on_body(b, rel_x, rel_y, rel_z, bR, br, bv, bw):
     """Global position and velocity of a point given in body ``b``'s axes."""
-    gx, gy, gz = _matvec(bR[b], rel_x, rel_y, rel_z)
-    cx, cy, cz = _cross(bw[b, 0], bw[b, 1], bw[b, 2], gx, gy, gz)
+    gx, gy, gz = matvec3(bR[b], rel_x, rel_y, rel_z)
+    cx, cy, cz = cross3(bw[b, 0], bw[b, 1], bw[b, 2], gx, gy, gz)
     return br[b, 0] + gx, br[b, 1] + gy, br[b, 2] + gz, bv[b, 0] + cx, bv[b, 1] + cy, bv[b, 2] + cz
 
 
@@ -320,15 +162,15 @@ def rod_kinematics(y, R, W):
             oq = 3 * n3 + 7 * j
             ou = uoff + 3 * n3 + 6 * j
             quat_to_R(y, oq + 3, Rm)
-            ax, ay, az = _matvec(Rm, R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2])
+            ax, ay, az = matvec3(Rm, R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2])
             wx, wy, wz = y[ou + 3], y[ou + 4], y[ou + 5]
         elif kind == ROD_BODY or kind == ROD_BODY_PINNED:
-            ax, ay, az = _matvec(W.bR[b], ax, ay, az)
+            ax, ay, az = matvec3(W.bR[b], ax, ay, az)
             wx, wy, wz = W.bw[b, 0], W.bw[b, 1], W.bw[b, 2]
         elif kind == ROD_COUPLED:
             o = R.rod_cpl[k]
             euler_R(xc[o + 3], xc[o + 4], xc[o + 5], Rm)
-            ax, ay, az = _matvec(Rm, R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2])
+            ax, ay, az = matvec3(Rm, R.rod_qref[k, 0], R.rod_qref[k, 1], R.rod_qref[k, 2])
             wx, wy, wz = vc[o + 3], vc[o + 4], vc[o + 5]
         W.rodr[k, 0, 0] = px
         W.rodr[k, 0, 1] = py
@@ -421,7 +263,7 @@ def rod_nodes(R, W):
         wz = rodw[k, 2]
         for i in range(N + 1):
             s = Lr * i / N if N > 0 else 0.0
-            ox, oy, oz = _cross(wx, wy, wz, s * qx, s * qy, s * qz)
+            ox, oy, oz = cross3(wx, wy, wz, s * qx, s * qy, s * qz)
             n = n0 + i
             rn_r[n, 0] = rodr[k, 0, 0] + s * qx
             rn_r[n, 1] = rodr[k, 0, 1] + s * qy
@@ -686,7 +528,7 @@ def rod_loads(R, E, B, W, cd_scale):
             F6[0] += fx
             F6[1] += fy
             F6[2] += fz
-            cx, cy, cz = _cross(rx, ry, rz, fx, fy, fz)
+            cx, cy, cz = cross3(rx, ry, rz, fx, fy, fz)
             F6[3] += cx
             F6[4] += cy
             F6[5] += cz
@@ -717,12 +559,12 @@ def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_):
     wz = bw[b, 2]
     if wx == 0.0 and wy == 0.0 and wz == 0.0:
         return
-    ox, oy, oz = _cross(wx, wy, wz, rx, ry, rz)
-    ax, ay, az = _cross(wx, wy, wz, ox, oy, oz)
+    ox, oy, oz = cross3(wx, wy, wz, rx, ry, rz)
+    ax, ay, az = cross3(wx, wy, wz, ox, oy, oz)
     fx = -(Mc[0, 0] * ax + Mc[0, 1] * ay + Mc[0, 2] * az)
     fy = -(Mc[1, 0] * ax + Mc[1, 1] * ay + Mc[1, 2] * az)
     fz = -(Mc[2, 0] * ax + Mc[2, 1] * ay + Mc[2, 2] * az)
-    mx, my, mz = _cross(rx, ry, rz, fx, fy, fz)
+    mx, my, mz = cross3(rx, ry, rz, fx, fy, fz)
     b6F[b, 0] += fx
     b6F[b, 1] += fy
     b6F[b, 2] += fz
@@ -738,7 +580,7 @@ def _add_child_to_body(br, b6F, b6M, b, F6, M6, point_only, ax, ay, az, S):
     rx = ax - br[b, 0]
     ry = ay - br[b, 1]
     rz = az - br[b, 2]
-    mx, my, mz = _cross(rx, ry, rz, F6[0], F6[1], F6[2])
+    mx, my, mz = cross3(rx, ry, rz, F6[0], F6[1], F6[2])
     b6F[b, 0] += F6[0]
     b6F[b, 1] += F6[1]
     b6F[b, 2] += F6[2]
@@ -771,13 +613,13 @@ def _rod_inertial(k, R, W, Fe):
         rx = W.rn_r[n, 0] - W.rodr[k, 0, 0]
         ry = W.rn_r[n, 1] - W.rodr[k, 0, 1]
         rz = W.rn_r[n, 2] - W.rodr[k, 0, 2]
-        ox, oy, oz = _cross(wx, wy, wz, rx, ry, rz)
-        cx, cy, cz = _cross(wx, wy, wz, ox, oy, oz)
+        ox, oy, oz = cross3(wx, wy, wz, rx, ry, rz)
+        cx, cy, cz = cross3(wx, wy, wz, ox, oy, oz)
         Mi = W.rn_M[n]
         fx = -(Mi[0, 0] * cx + Mi[0, 1] * cy + Mi[0, 2] * cz)
         fy = -(Mi[1, 0] * cx + Mi[1, 1] * cy + Mi[1, 2] * cz)
         fz = -(Mi[2, 0] * cx + Mi[2, 1] * cy + Mi[2, 2] * cz)
-        mx, my, mz = _cross(rx, ry, rz, fx, fy, fz)
+        mx, my, mz = cross3(rx, ry, rz, fx, fy, fz)
         Fe[0] += fx
         Fe[1] += fy
         Fe[2] += fz
@@ -798,7 +640,7 @@ def _rod_inertial(k, R, W, Fe):
         ix = Ic * wx + (Iax - Ic) * wq * qx
         iy = Ic * wy + (Iax - Ic) * wq * qy
         iz = Ic * wz + (Iax - Ic) * wq * qz
-        gx, gy, gz = _cross(wx, wy, wz, ix, iy, iz)
+        gx, gy, gz = cross3(wx, wy, wz, ix, iy, iz)
         Fe[3] -= gx
         Fe[4] -= gy
         Fe[5] -= gz
@@ -807,8 +649,9 @@ def _rod_inertial(k, R, W, Fe):
 @kernel
 def rigid_dynamics(y, dy, R, P, E, W):
     """After the line, point and rod loads: rod equations of motion (free, pinned) and what rods
-    and points pass to their bodies; then body loads and equations of motion; writes the
-    derivatives of the rows and blocks of rods and bodies into ``dy``."""
+    and points pass to their bodies, then each body's own loads and mass matrix (W.b6F, W.b6M);
+    writes the derivatives of the rows and blocks of rods into ``dy``. The bodies move in
+    :func:`body_motion` (after the floating-body loads are added)."""
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
@@ -923,17 +766,17 @@ def rigid_dynamics(y, dy, R, P, E, W):
                                 s += Rm[a, e] * M0[3 * bi + e, 3 * bj + f] * Rm[c, f]
                         M6[3 * bi + a, 3 * bj + c] += s
         m = R.body_m[i]
-        cgx, cgy, cgz = _matvec(Rm, R.body_rCG[i, 0], R.body_rCG[i, 1], R.body_rCG[i, 2])
+        cgx, cgy, cgz = matvec3(Rm, R.body_rCG[i, 0], R.body_rCG[i, 1], R.body_rCG[i, 2])
         fg = E.g * (E.rho * R.body_V[i] - m)
         wx = W.bw[i, 0]
         wy = W.bw[i, 1]
         wz = W.bw[i, 2]
-        ox, oy, oz = _cross(wx, wy, wz, cgx, cgy, cgz)
-        cx, cy, cz = _cross(wx, wy, wz, ox, oy, oz)
+        ox, oy, oz = cross3(wx, wy, wz, cgx, cgy, cgz)
+        cx, cy, cz = cross3(wx, wy, wz, ox, oy, oz)
         F6[0] -= m * cx
         F6[1] -= m * cy
         F6[2] += fg - m * cz
-        gx, gy, gz = _cross(cgx, cgy, cgz, 0.0, 0.0, fg)
+        gx, gy, gz = cross3(cgx, cgy, cgz, 0.0, 0.0, fg)
         F6[3] += gx
         F6[4] += gy
         F6[5] += gz
@@ -959,9 +802,31 @@ def rigid_dynamics(y, dy, R, P, E, W):
             bz *= c0 * R.body_CdA[i, 3 * part + 2]
             for a in range(3):
                 F6[3 * part + a] += Rm[a, 0] * bx + Rm[a, 1] * by + Rm[a, 2] * bz
+
+
+@kernel
+def body_motion(y, dy, R, W, F):
+    """Body equations of motion from W.b6F and W.b6M: accelerations of free and coupled-pinned
+    bodies (floating bodies solved with their group are already in W.bacc), their state
+    derivatives, and the load returned for coupled bodies (F6 - M a_in)."""
+    n3 = R.dims[0]
+    n6 = R.dims[1]
+    uoff = 3 * n3 + 7 * n6
+    M3 = W.m33[0]
+    rhs3 = W.v6[0]
+    x3 = W.v6[1]
+    dense = W.dense
+    fl = F
+    for i in range(R.body_kind.size):
+        kind = R.body_kind[i]
+        F6 = W.b6F[i]
+        M6 = W.b6M[i]
         acc = W.bacc[i]
         j = R.body_blk[i]
-        if kind == BODY_FREE:
+        f = fl.of_body[i]
+        if kind == BODY_FREE and f >= 0 and fl.grouped[f] == 1:
+            pass  # solved with its group (core.floating.floating_motion)
+        elif kind == BODY_FREE:
             solve_dense(M6, F6, acc, 6, dense)
         elif kind == BODY_COUPLED_PINNED:
             o = R.body_cpl[i]

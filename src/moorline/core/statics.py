@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from .integrate import advance
-from .jacobian import S_NJAC, S_NRHS, assemble, band_lu, displace, fd_steps, shift_colour, solve_increment
+from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
 from .jit import kernel
 from .rhs import rhs
 
@@ -65,7 +65,7 @@ def _move_along(y, dy, n3, n6, h):
 
 
 @kernel
-def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E, B, Mo, W, S):
+def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E, B, Mo, W, F, FW, S):
     """MoorDyn's stationary initial-condition solver (spec 6.3): pseudo-time steps along the
     accelerations with all velocities held at zero (6-DOF objects also turn along their angular
     accelerations).
@@ -100,7 +100,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
     next_check = dtIC
     it = 0
     while True:
-        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, 1.0, np.int64(-1))
+        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
         e = _accel_norm_sum(dy, n3, n6)
         if e0 < 0.0:
             e0 = e
@@ -108,7 +108,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
             b /= 1.01
             for i in range(uoff):
                 y[i] = 0.5 * (y[i] + qprev[i])
-            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, 1.0, np.int64(-1))
+            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
             e = _accel_norm_sum(dy, n3, n6)
         else:
             b *= 1.01
@@ -148,7 +148,7 @@ def _fairlead_tensions(L, W, out):
 
 
 @kernel
-def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, S, vmax, H):
+def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, F, FW, S, vmax, H):
     """MoorDyn's legacy initial-condition solver (spec 6.4): integrate with drag scaled by
     ``cd_scale`` until the end-B tension of every line changes by less than ``threshIC``
     (relative) over ten samples ``dtIC/10`` apart. ``H``: (11, n_lines) scratch (kernels
@@ -168,7 +168,8 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
         # final_eval: the Work arrays then hold the loads of the state at t1
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, cd_scale, S, vmax, np.bool_(True))
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax,
+                               np.bool_(True))
         if bad >= 0:
             return False, t, bad
         _fairlead_tensions(L, W, ten)
@@ -192,7 +193,7 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
 
 # ---------------------------------------------------------------------------------------------- Newton statics
 @kernel(inline="always")
-def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
+def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
     """J = diag I - df/dx at the positions IW.y0 (zero velocities), factored. IW.f0 must hold the
     derivative at IW.y0. Returns the LU status."""
     n3 = R.dims[0]
@@ -200,7 +201,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
     uoff = 3 * n3 + 7 * n6
     nd = IW.a1.size
     fd_steps(IW, n3, n6, 1e-7, 1.0)
-    IW.AB[:, :] = 0.0
+    clear(IW)
     nc = A.col_ptr.size - 1
     kmax = 6 if n6 > 0 else 3
     dq = IW.da
@@ -213,22 +214,22 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, diag):
             for i in range(y.size):
                 y[i] = IW.y0[i]
             displace(IW.y0, dq, y, n3, n6, 1.0)
-            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, 1.0, np.int64(-1))
+            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
             IW.stat[S_NRHS] += 1
             assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
     IW.stat[S_NJAC] += 1
     for i in range(y.size):
         y[i] = IW.y0[i]
-    return band_lu(IW.AB, nd, A.band[0], A.band[1], IW.piv)
+    return factor(A, IW)
 
 
 @kernel(inline="always")
-def _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6):
+def _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6):
     """f at the positions of ``y`` with zero velocities into IW.f0; returns (max |acc|, L2 norm)."""
     uoff = 3 * n3 + 7 * n6
     for i in range(uoff, y.size):
         y[i] = 0.0
-    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, 1.0, np.int64(-1))
+    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
     IW.stat[S_NRHS] += 1
     big = 0.0
     s = 0.0
@@ -242,7 +243,7 @@ def _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6):
 
 
 @kernel
-def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_iter):
+def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter):
     """Static equilibrium by pseudo-transient continuation of Newton's method: each iteration
     solves (I / tau^2 - df/dx) dx = f(x) at zero velocities, with tau^2 grown by the ratio of
     successive residual norms (switched evolution relaxation) so the iterations start as heavily
@@ -262,7 +263,7 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
     n6 = R.dims[1]
     nd = IW.a1.size
     tau2 = tau0 * tau0
-    big, nrm = _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
+    big, nrm = _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
     if not np.isfinite(nrm):
         return -1, 0, big
     dxmax = np.inf
@@ -273,7 +274,7 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
         for i in range(y.size):
             IW.y0[i] = y[i]
         # IW.f0 holds f at y0
-        if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, 1.0 / tau2) != 0:
+        if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, 1.0 / tau2) != 0:
             return -1, it, big
         while True:
             solve_increment(A, IW)
@@ -284,7 +285,7 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
                 if d > dxmax:
                     dxmax = d
             displace(IW.y0, IW.da, y, n3, n6, 1.0)
-            big1, nrm1 = _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
+            big1, nrm1 = _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
             if np.isfinite(nrm1) and (nrm1 <= 2.0 * nrm or tau2 < 1e-12):
                 break
             # reject: back to y0 with a smaller pseudo step
@@ -293,8 +294,8 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, tau0, acc_tol, dx_tol, max_it
             tau2 *= 0.25
             if it >= max_iter:
                 return 0, it, big
-            _static_residual(y, IW, L, R, P, E, B, Mo, W, n3, n6)
-            if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, 1.0 / tau2) != 0:
+            _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
+            if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, 1.0 / tau2) != 0:
                 return -1, it, big
         if not np.isfinite(nrm1):
             return -1, it, big1

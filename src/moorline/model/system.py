@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .floating import FloatingBody, HydroBodies, Joint, MorisonStrip
 from .types import (
     BODY_KIND_WORDS,
     POINT_KIND_WORDS,
@@ -54,6 +55,10 @@ class Model:
     outputs: list[str] = field(default_factory=list)
     #: deck file this model was read from, if any
     source: Path | None = None
+    #: floating bodies (:mod:`moorline.model.floating`): per-body settings, coefficient sets, joints
+    floating: list[FloatingBody] = field(default_factory=list)
+    hydro: list[HydroBodies] = field(default_factory=list)
+    joints: list[Joint] = field(default_factory=list)
 
     # ------------------------------------------------------------------ builders
     def add_line_type(self, name: str, *, d: float, w: float, EA, BA=0.0, EI=0.0, Cd=0.0, Ca=0.0,
@@ -132,6 +137,35 @@ class Model:
         line = Line(line_type, end_a, end_b, float(L), int(N), outputs)
         self.lines.append(line)
         return line
+
+    def add_hydro(self, bodies, coefficients, **options) -> HydroBodies:
+        """Make deck bodies ``bodies`` (0-based indices, in the order of the coefficient set's
+        bodies) float with the potential-flow ``coefficients`` (a Dataset, a WAMIT stem or a
+        Capytaine NetCDF file); see :class:`~moorline.model.floating.HydroBodies` for the options.
+        Bodies without a :class:`~moorline.model.floating.FloatingBody` entry get a default one."""
+        h = HydroBodies(list(np.atleast_1d(bodies)), coefficients, **options)
+        self.hydro.append(h)
+        for b in h.bodies:
+            if self.floating_body(b) is None:
+                self.floating.append(FloatingBody(b))
+        return h
+
+    def add_floating(self, body: int, **settings) -> FloatingBody:
+        """Set (or replace) the extra loads of floating body ``body`` (see
+        :class:`~moorline.model.floating.FloatingBody`)."""
+        fb = FloatingBody(body, **settings)
+        self.floating = [f for f in self.floating if f.body != fb.body] + [fb]
+        return fb
+
+    def add_joint(self, child: int, parent: int | None = None, **options) -> Joint:
+        """A prismatic joint (see :class:`~moorline.model.floating.Joint`)."""
+        j = Joint(child, parent, **options)
+        self.joints.append(j)
+        return j
+
+    def floating_body(self, body: int) -> FloatingBody | None:
+        """The floating-body settings of deck body ``body``, or None if it does not float."""
+        return next((f for f in self.floating if f.body == body), None)
 
     # ------------------------------------------------------------------ queries
     def end_position(self, att: Attachment) -> np.ndarray:
@@ -235,6 +269,7 @@ class Model:
             if b.m < 0 or b.V < 0 or np.any(b.I < 0) or np.any(b.CdA < 0) or np.any(b.Ca < 0):
                 raise ModelError(f"body {i}: mass, inertia, volume, CdA and Ca must be >= 0")
         self._check_free_rigid()
+        self._check_floating()
         if self.env.rho <= 0 or self.env.g <= 0:
             raise ModelError("rho and g must be > 0")
         if self.env.depth < 0:
@@ -255,11 +290,61 @@ class Model:
         if e.kShear is not None and e.kShear <= 0:
             raise ModelError(f"kShear must be > 0, got {e.kShear}")
 
+    def _check_floating(self) -> None:
+        """Floating bodies are free deck bodies, each in exactly one coefficient set, whose deck
+        volume and added mass are zero (the potential-flow model carries buoyancy and added mass);
+        joints link floating bodies, one joint per child, children not parents."""
+        nb = len(self.bodies)
+        in_set: dict[int, int] = {}
+        for k, h in enumerate(self.hydro):
+            for b in h.bodies:
+                if not 0 <= b < nb:
+                    raise ModelError(f"hydrodynamic body set {k + 1}: no body {b + 1} ({nb} bodies)")
+                if b in in_set:
+                    raise ModelError(f"body {b + 1} is in two hydrodynamic body sets ({in_set[b] + 1} and {k + 1})")
+                in_set[b] = k
+        seen = set()
+        for fb in self.floating:
+            b = fb.body
+            if not 0 <= b < nb:
+                raise ModelError(f"floating body: no body {b + 1} ({nb} bodies)")
+            if b in seen:
+                raise ModelError(f"body {b + 1} has two floating-body entries")
+            seen.add(b)
+            if b not in in_set:
+                raise ModelError(f"body {b + 1} floats but no hydrodynamic coefficients name it (add_hydro)")
+            body = self.bodies[b]
+            if body.kind != BodyKind.FREE:
+                raise ModelError(f"body {b + 1} floats, so it must be a free body, not {body.kind.name.lower()}")
+            if body.V != 0.0 or np.any(body.Ca != 0.0):
+                raise ModelError(f"body {b + 1} floats: its deck volume and added-mass coefficients must be 0 "
+                                 f"(got V = {body.V}, Ca = {body.Ca.tolist()}); the potential-flow model gives "
+                                 "buoyancy and added mass, they would count twice")
+            for k, s in enumerate(fb.morison):
+                if not isinstance(s, MorisonStrip):
+                    raise ModelError(f"body {b + 1} Morison strip {k + 1}: expected a MorisonStrip")
+        missing = sorted(set(in_set) - seen)
+        if missing:
+            raise ModelError(f"bodies {[b + 1 for b in missing]} have coefficients but no floating-body entry")
+        children = {}
+        for j in self.joints:
+            for role, b in (("child", j.child), ("parent", j.parent)):
+                if b is not None and b not in seen:
+                    raise ModelError(f"joint {role} body {b + 1} must be a floating body")
+            if j.child in children:
+                raise ModelError(f"body {j.child + 1} is the child of two joints")
+            children[j.child] = j
+        for j in self.joints:
+            if j.parent is not None and j.parent in children:
+                raise ModelError(f"body {j.parent + 1} is both a joint's child and a parent: chains of joints are "
+                                 "not supported")
+
     def _check_free_rigid(self) -> None:
         """A free body or rod must have some mass to move."""
         rho = self.env.rho
+        floating = {f.body for f in self.floating}
         for i, b in enumerate(self.bodies):
-            if b.kind != BodyKind.FREE:
+            if b.kind != BodyKind.FREE or i in floating:  # a floating body has its added mass
                 continue
             has = b.m + rho * float(np.max(b.Ca)) * b.V > 0 or np.min(b.I) > 0
             kids = any(p.kind == PointKind.BODY and p.body == i for p in self.points) or \

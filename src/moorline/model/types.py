@@ -540,6 +540,10 @@ class Environment:
     #: waves (:class:`moorline.model.water.Waves`) and current (:class:`~moorline.model.water.Current`)
     waves: object | None = None
     current: object | None = None
+    #: the waves act on lines, points and rods (True, MoorDyn's WaveKin > 0) or only on floating
+    #: bodies through their excitation (False: the lines see the current alone, as MoorDyn with
+    #: WaveKin 0 coupled to WEC-Sim or HydroDyn)
+    waves_on_lines: bool = True
 
     def friction_coefficients(self) -> tuple[float, float, float, float]:
         """(mu transverse, mu axial, static/kinetic ratio, creep damping [N s/m]) of the chosen model.

@@ -11,7 +11,11 @@ restarted from it continues bitwise identically to one that never stopped:
 - the seabed state (stick-slip friction anchors and slip flags) and every ``Work`` array (the loads
   the views report, the coupled kinematics);
 - the water kinematics arrays (wave components or grids: a sea drawn with a random seed is
-  restored, not drawn again) and the coupled trajectory of the last step;
+  restored, not drawn again), the wave excitation of floating bodies, and the coupled trajectory
+  of the last step;
+- floating bodies: their radiation states are part of ``y``; the floating work carries the rest
+  (the convolution's velocity history and its cursor, the trapezoid's factored matrices and their
+  step, the joints' slide and PTO power);
 - the initial-condition and stability reports, and a caller's ``meta`` (for the command line,
   the sizes of the streamed output files at the moment of the checkpoint).
 
@@ -20,6 +24,9 @@ The arrays are saved by walking the NamedTuples listed in :data:`CARRIERS`, so a
 further work. A fingerprint of the layout (every array that describes the model, the shapes of
 everything saved, scheme, time step) is stored with it: a checkpoint of another model is refused
 with a message that says what differs.
+
+Not supported: the quasi-static mooring mode (``System(mooring="quasistatic")``), whose
+quasi-static line solver keeps a warm start outside these arrays; :func:`save` refuses it.
 
 The file is a numpy ``.npz`` archive written atomically (a temporary file renamed into place).
 """
@@ -53,10 +60,12 @@ CARRIERS = (
     ("water", lambda s: s.layout.env.water),
     ("water_ic", lambda s: s.layout.env_ic.water),
     ("implicit", lambda s: s._imp[1] if s._imp is not None else None),
+    ("floating_work", lambda s: s.fwork),
+    ("excitation", lambda s: s.layout.env.exc),
 )
 
 #: arrays that describe the model (a checkpoint of a model where any differs is refused)
-_MODEL_PARTS = ("lines", "rigid", "points")
+_MODEL_PARTS = ("lines", "rigid", "points", "fl")
 #: scalars of the environment that the fingerprint includes
 _ENV_SCALARS = ("g", "rho", "depth", "kBot", "cBot", "contact", "fric", "muT", "muA", "mc", "cv", "kshear", "cshear",
                 "bed_ramp", "bed_blend")
@@ -72,7 +81,9 @@ def describe(system: System) -> dict:
     K = system.layout.env.water
     return {"deck": m.source.name if m.source is not None else "(built in Python)", "lines": len(m.lines),
             "water": f"wave mode {K.wave_mode}, current mode {K.current_mode}, {K.c_omega.size} wave components",
-            "points": len(m.points), "rods": len(m.rods), "bodies": len(m.bodies), "state size": int(system.y.size),
+            "points": len(m.points), "rods": len(m.rods), "bodies": len(m.bodies),
+            "floating bodies": int(system.layout.fl.body.size), "joints": int(system.layout.fl.jt_child.size),
+            "state size": int(system.y.size),
             "scheme": system.scheme_label, "dtM": repr(float(system.dtM)), "loads_at": system.loads_at}
 
 
@@ -103,6 +114,10 @@ def save(system: System, path, *, meta: dict | None = None) -> Path:
     values stored with it and returned by :func:`load`."""
     if not system.initialized:
         raise RuntimeError("call init() before save(): there is no state to save yet")
+    if system._qsm is not None:
+        raise CheckpointError("checkpoints of the quasi-static mooring mode (mooring='quasistatic') are not "
+                              "supported: its quasi-static line solver keeps a warm start that a checkpoint does "
+                              "not hold, so a restart would not continue bitwise; run it without --checkpoint-every")
     path = Path(path)
     arrays = {"y": system.y, "S": system._S, "motion_t": system._motion.t, "motion_c": system._motion.c}
     for name, get in CARRIERS:

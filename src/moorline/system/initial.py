@@ -139,10 +139,13 @@ def solve_initial_conditions(sys: System) -> None:
     when Newton fails with an explicit scheme, MoorDyn's stationary solver or dynamic relaxation.
     Fills ``sys.ic_report``."""
     opts = sys.model.options
-    L, R, P, _, B, W = sys._kernel_arrays()
+    L, R, P, _, B, W, F, FW = sys._kernel_arrays()
     E = sys.layout.env_ic  # waves off, current on (spec 6.1)
-    newton = opts.ICNewton == 1 or (opts.ICNewton == -1 and sys.scheme == Scheme.GENALPHA)
-    if newton and newton_ic(sys, L, R, P, E, B, W):
+    # Newton when asked for, and by default with the implicit scheme or floating bodies (a hull on its
+    # hydrostatics is a stiff, lightly damped system that MoorDyn's pseudo-dynamics settle slowly)
+    floating = sys.layout.fl.body.size > 0
+    newton = opts.ICNewton == 1 or (opts.ICNewton == -1 and (sys.scheme == Scheme.GENALPHA or floating))
+    if newton and newton_ic(sys, L, R, P, E, B, W, F, FW):
         return
     if sys.scheme == Scheme.GENALPHA:
         raise SimulationError("Newton statics did not find the initial equilibrium; the implicit scheme has no "
@@ -151,7 +154,7 @@ def solve_initial_conditions(sys: System) -> None:
     if opts.ICgenDynamic:
         ok, tic, bad = dynamic_relaxation(sys.y, sys.dtM, int(sys.scheme), sys.scheme_params, opts.dtIC,
                                           opts.TmaxIC, opts.threshIC, opts.CdScaleIC, L, R, P, E, B,
-                                          sys._motion, W, sys._S, MAX_NODE_SPEED, np.zeros((11, len(sys.lines))))
+                                          sys._motion, W, F, FW, sys._S, MAX_NODE_SPEED, np.zeros((11, len(sys.lines))))
         if bad >= 0:
             raise sys._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
         sys.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))
@@ -159,7 +162,7 @@ def solve_initial_conditions(sys: System) -> None:
         seg_min = float(np.min(L.seg_l0)) if L.seg_l0.size else 1.0
         cfl_ic = min(float(opts.CFL), 1.0)
         status, tic, emean, it = stationary_solve(sys.y, sys.dtM, opts.dtIC, opts.TmaxIC, opts.threshIC,
-                                                  cfl_ic, seg_min, L, R, P, E, B, sys._motion, W, sys._S)
+                                                  cfl_ic, seg_min, L, R, P, E, B, sys._motion, W, F, FW, sys._S)
         if status < 0 or not np.all(np.isfinite(sys.y)):
             raise SimulationError("the stationary initial-condition solver diverged (non-finite state); "
                                   "try ICgenDynamic 1 or a smaller dtM", time=0.0)
@@ -180,7 +183,7 @@ def solve_initial_conditions(sys: System) -> None:
                     "start from the last iterate", rep["method"], opts.TmaxIC)
 
 
-def newton_ic(sys: System, L, R, P, E, B, W) -> bool:
+def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     """Static equilibrium by Newton's method (pseudo-transient continuation from the catenary
     start); when that does not converge quickly (a slack, flexible system far from the start,
     such as a lazy-wave cable), implicit dynamic relaxation (generalized-alpha with maximal
@@ -191,13 +194,13 @@ def newton_ic(sys: System, L, R, P, E, B, W) -> bool:
     y_start = sys.y.copy()
     t0 = time.perf_counter()
     sink_into_seabed(sys, E)
-    status, it, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, float(opts.dtIC),
+    status, it, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW, float(opts.dtIC),
                                        NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_FIRST_IT)
     relax = 0.0
     if status != 1:
         sys.y[:] = y_start
-        relax = implicit_relaxation(sys, A, IW, L, R, P, E, B, W)
-        status, it2, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, float(opts.dtIC),
+        relax = implicit_relaxation(sys, A, IW, L, R, P, E, B, W, F, FW)
+        status, it2, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW, float(opts.dtIC),
                                             NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_MAX_IT)
         it += it2
     wall = time.perf_counter() - t0
@@ -238,7 +241,7 @@ def sink_into_seabed(sys: System, E) -> None:
                 sys.y[k + 2] = zb - pen
 
 
-def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W) -> float:
+def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
     """Implicit dynamic relaxation towards equilibrium (see :func:`newton_ic`): until the line
     end tensions change by less than threshIC (relative) over dtIC, or TmaxIC. Returns the
     pseudo time [s]."""
@@ -258,7 +261,7 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W) -> float:
     try:
         while t < opts.TmaxIC:
             t_next = t + float(opts.dtIC)
-            t, status, row, _ = advance_implicit(sys.y, t, t_next, h, A, IW, L, R, P, E, B, sys._motion, W,
+            t, status, row, _ = advance_implicit(sys.y, t, t_next, h, A, IW, L, R, P, E, B, sys._motion, W, F, FW,
                                                  MAX_NODE_SPEED, True)
             if status != 0:
                 break
@@ -271,3 +274,29 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W) -> float:
     uoff = sys.layout.u_offset
     sys.y[uoff:] = 0.0
     return t
+
+
+def quasistatic_equilibrium(sys: System, *, tol: float = 1e-7, max_outer: int = 50) -> None:
+    """Equilibrium of the floating bodies on quasi-static lines: Newton statics of the bodies with
+    the lines' load linearised at their pose, re-linearised until the poses change by less than
+    ``tol`` [m, rad]. Fills ``sys.ic_report``."""
+    L, R, P, _, B, W, F, FW = sys._kernel_arrays()
+    E = sys.layout.env_ic
+    last = None
+    outer = 0
+    for outer in range(1, max_outer + 1):
+        sys._evaluate()
+        sys._qsm.update(sys)
+        if not newton_ic(sys, L, R, P, E, B, W, F, FW):
+            break
+        sys._evaluate()
+        poses = np.concatenate([b.pose() for b in sys.bodies])
+        if last is not None and np.max(np.abs(poses - last)) < tol:
+            sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer)
+            log.info("initial conditions: floating bodies in equilibrium on quasi-static lines after %d "
+                     "linearisations", outer)
+            return
+        last = poses
+    sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer, converged=False)
+    raise SimulationError("the floating bodies found no equilibrium on the quasi-static lines (Newton statics of "
+                          f"the linearised loads did not settle in {outer} linearisations)", time=0.0)

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.features import features_of
+from ..core.floating import floating_restart
 from ..core.implicit import advance_implicit, build_implicit, new_implicit_work
 from ..core.integrate import RHO_INF, Scheme, advance, parse_scheme
 from ..core.jacobian import (
@@ -46,8 +47,10 @@ from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
 from . import checkpoint
-from .initial import MAX_NODE_SPEED, catenary_start, solve_initial_conditions
+from .floating import JOINT_PULL, floating_arrays
+from .initial import MAX_NODE_SPEED, catenary_start, quasistatic_equilibrium, solve_initial_conditions
 from .limits import check_model
+from .qsmooring import QuasiStaticMooring
 from .views import BodyView, LineView, PointView, RodView
 
 log = logging.getLogger("moorline")
@@ -78,13 +81,24 @@ class System:
     _STAGE_FIELDS = ("T", "Td", "seg_len", "seg_ldot", "F", "Fhyd", "Fbed", "W", "kurv", "pF", "pa")
 
     def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None,
-                 loads_at: str = "end"):
+                 loads_at: str = "end", mooring: str = "dynamic", qs_interval: float | None = None,
+                 qs_friction=0.0):
         if loads_at not in ("end", "last_stage"):
             raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
+        if mooring not in ("dynamic", "quasistatic"):
+            raise ValueError(f"mooring must be 'dynamic' or 'quasistatic', got {mooring!r}")
         self.loads_at = loads_at
+        self.mooring = mooring
+        self.full_model = model
+        self._qsm = None
+        if mooring == "quasistatic":
+            self._qsm = QuasiStaticMooring(model, seabed_friction=qs_friction)
+            model = self._qsm.dynamic_model(model)
         self.model = model
         check_model(model)
-        self.layout = build_layout(model)
+        self.layout = build_layout(model, floating=floating_arrays(model))
+        if self._qsm is not None:
+            self.layout.fl.ctl[1] = 1
         self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
             scheme if scheme is not None else model.options.tScheme)
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
@@ -95,7 +109,10 @@ class System:
             blend = bed_spring_blend(self.layout)
             self.layout.env = self.layout.env._replace(bed_ramp=ramp, bed_blend=blend)
             self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
+        # a joint's child is pulled back onto its joint at 0.3 / dtM (see core.floating.floating_motion)
+        self.layout.fl.par[1] = JOINT_PULL / self.dtM
         self.work = self.layout.new_work()
+        self.fwork = self.layout.new_float_work()
         self._features_key = None
         self._kernel_arrays()  # the scheme's features join the layout's (see core.features)
         n = self.layout.n_state
@@ -111,6 +128,8 @@ class System:
         self.initialized = False
         self._grid_warned = False
         self.ic_report: dict = {}
+        #: quasi-static mode: the lines are re-solved and re-linearised every qs_interval [s]
+        self.qs_interval = float(qs_interval) if qs_interval is not None else max(self.dtM, 0.02)
 
     @classmethod
     def from_file(cls, path, **kwargs) -> System:
@@ -166,25 +185,26 @@ class System:
 
     # ------------------------------------------------------------------ evaluation
     def _kernel_arrays(self):
-        """(lines, rods, points, env, seabed, work): what every kernel call takes. ``work.features``
-        is brought up to date first when the layout or the scheme were replaced since (the kernels
-        are compiled without the code of the features they lack, see :mod:`moorline.core.features`)."""
+        """(lines, rods, points, env, seabed, work, floating, floating work): what every kernel call
+        takes. ``work.features`` is brought up to date first when the layout or the scheme were
+        replaced since (the kernels are compiled without the code of the features they lack, see
+        :mod:`moorline.core.features`)."""
         lay = self.layout
-        key = (id(lay.lines), id(lay.rigid), id(lay.env), id(lay.env_ic), int(self.scheme))
+        key = (id(lay.lines), id(lay.rigid), id(lay.env), id(lay.env_ic), id(lay.fl), int(self.scheme))
         if key != self._features_key:
             f = features_of(lay, self.scheme)
             if f != self.work.features:
                 self.work = self.work._replace(features=f)
             self._features_key = key
-        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work
+        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work, lay.fl, self.fwork
 
     def _evaluate(self, piece: int = -1) -> None:
         """Evaluate every load at the current state and time (refreshes what the views report).
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
         dy = self._S[0]
-        L, R, P, E, B, W = self._kernel_arrays()
-        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, 1.0, piece)
+        L, R, P, E, B, W, F, FW = self._kernel_arrays()
+        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, F, FW, 1.0, piece)
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
@@ -232,11 +252,18 @@ class System:
                         CatenaryStatus(status).name.lower())
         self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
-        if solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
+        if self._qsm is not None:
+            self._evaluate()
+            self._qsm.update(self)
+            if solve_ic:
+                quasistatic_equilibrium(self)
+        elif solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
             solve_initial_conditions(self)
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
+        if self.layout.fl.body.size:  # (not compiled for systems without floating bodies)
+            floating_restart(0.0, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         self._evaluate()
         # friction springs start relaxed at the initial position of every node
@@ -334,13 +361,13 @@ class System:
 
     def _advance_call(self, motion: Motion, t_end: float):
         """(kernel, arguments) of the compiled time loop from now to ``t_end``."""
-        L, R, P, E, B, W = self._kernel_arrays()
+        L, R, P, E, B, W, F, FW = self._kernel_arrays()
         if self.scheme == Scheme.GENALPHA:
             A, IW = self._implicit()
-            return advance_implicit, (self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion, W,
+            return advance_implicit, (self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion, W, F, FW,
                                       MAX_NODE_SPEED, True)
         return advance, (self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P, E, B,
-                         motion, W, 1.0, self._S, MAX_NODE_SPEED, self.loads_at != "last_stage")
+                         motion, W, F, FW, 1.0, self._S, MAX_NODE_SPEED, self.loads_at != "last_stage")
 
     def warm_up(self, motion: Motion | None = None) -> None:
         """Compile the time loop of this system now (or load it from numba's cache), without
@@ -350,6 +377,22 @@ class System:
         compile_for(kernel, args)
 
     def _advance(self, motion: Motion, t_end: float) -> None:
+        if self._qsm is None:
+            self._advance_interval(motion, t_end)
+            return
+        # quasi-static lines: re-solved at the start of every interval, linearised over it
+        while t_end - self.t > 1e-9 * self.dtM:
+            self._qsm.update(self)
+            self._advance_interval(motion, min(t_end, self.t + self.qs_interval))
+
+    def line_end_tensions(self) -> np.ndarray:
+        """Tension at end A (anchor) and end B (fairlead) of every line [N], shape (n_lines, 2):
+        of the dynamic lines, or of the quasi-static ones at their last solve."""
+        if self._qsm is not None:
+            return self._qsm.tensions()
+        return np.array([[ln.anchor_tension(), ln.fairlead_tension()] for ln in self.lines]).reshape(-1, 2)
+
+    def _advance_interval(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
         kernel, args = self._advance_call(motion, t_end)
         W = self.work
@@ -533,6 +576,8 @@ class System:
         self._restart()
 
     def _restart(self) -> None:
+        if self.layout.fl.body.size:  # (not compiled for systems without floating bodies)
+            floating_restart(self.t, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         if self.initialized:
             self._evaluate()
