@@ -1,12 +1,13 @@
 """Run every benchmark and write benchmarks/RESULTS.md.
 
-    python benchmarks/run_all.py [--repeat 3] [--repeat-small 3] [--out benchmarks/RESULTS.md]
+    python benchmarks/run_all.py [--repeat 3] [--repeat-small 3] [--baseline-src PATH] [--out benchmarks/RESULTS.md]
 
 Runs bench_vs_moordyn.py, bench_equal_accuracy.py, bench_scaling.py, bench_init.py,
-bench_quasistatic.py and bench_floating.py one after the other (each in its own process, so each
-starts with a clean interpreter) and writes their tables, with the machine they ran on, into one
-markdown file. Needs ``moordyn`` (and ``cabledyn`` for the CableDyn rows; without it those rows are
-missing), ``moorpy`` for the quasi-static rows and ``capytaine`` for the floating-body rows.
+bench_quasistatic.py, bench_floating.py and bench_compile.py one after the other (each in its own
+process, so each starts with a clean interpreter) and writes their tables, with the machine they
+ran on, into one markdown file. Needs ``moordyn`` (and ``cabledyn`` for the CableDyn rows; without
+it those rows are missing), ``moorpy`` for the quasi-static rows and ``capytaine`` for the
+floating-body rows.
 """
 
 from __future__ import annotations
@@ -63,8 +64,10 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat-small", type=int, default=3, help="runs per timing of bench_scaling, bench_init")
     ap.add_argument("--reuse", default=None,
                     help="do not run anything: assemble the outputs the scripts already wrote into this folder "
-                         "(vs.log: bench_vs_moordyn's output; eq.md, scaling.md, init.md, quasistatic.md: their --out; "
-                         "floating.md: bench_floating's output)")
+                         "(vs.log: bench_vs_moordyn's output; eq.md, scaling.md, init.md, quasistatic.md, "
+                         "compile.md: their --out; floating.md: bench_floating's output)")
+    ap.add_argument("--baseline-src", default=None, help="src folder of another moorline for bench_compile.py's "
+                    "before/after table")
     ap.add_argument("--out", default=str(HERE / "RESULTS.md"))
     a = ap.parse_args(argv)
     rep = str(a.repeat)
@@ -80,6 +83,8 @@ def main(argv=None) -> int:
         run("bench_init.py", "--repeat", rep_small, "--out", str(tmp / "init.md"))
         run("bench_quasistatic.py", "--repeat", "5", "--out", str(tmp / "quasistatic.md"))
         (tmp / "floating.md").write_text(run("bench_floating.py", "--repeat", rep))
+        run("bench_compile.py", "--out", str(tmp / "compile.md"),
+            *(["--baseline-src", a.baseline_src] if a.baseline_src else []))
     vs_lines = [ln for ln in vs.splitlines() if ln.strip() and "catenary solve" not in ln and
                 "initial-condition solver" not in ln and "did NOT converge" not in ln]
     text = f"""# Benchmark results
@@ -132,7 +137,17 @@ element count is the one requested, not the one it runs.
 
 {(tmp / "init.md").read_text()}
 {(tmp / "quasistatic.md").read_text()}
-{(tmp / "floating.md").read_text()}"""
+{(tmp / "floating.md").read_text()}
+
+## First run: compile time, per deck feature
+
+`bench_compile.py`: one `moorline run` in a fresh process with an empty numba cache (everything
+compiled), then the same with the cache filled; wall time around the process and its CPU time
+(user + system, steadier on a shared machine), with the machine's load average before each case.
+Short runs (5 s simulated) except the README example (60 s). "baseline" is the moorline given by
+`--baseline-src`, run alternately with the current one.
+
+{(tmp / "compile.md").read_text() if (tmp / "compile.md").exists() else "(not run)"}"""
     Path(a.out).write_text(text)
     print(f"wrote {a.out}")
     return 0

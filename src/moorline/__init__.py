@@ -19,11 +19,14 @@ checks it):
                    networks with free points and bodies, stiffness, offset curves
                                                                         -> model, core
     system/        the runtime: System (init / step / advance_to), object views, initial
-                   conditions, floating-body arrays                     -> core, quasistatic, hydro,
+                   conditions, floating-body arrays, checkpoints (save / load), input limits
+                                                                        -> core, quasistatic, hydro,
                                                                            model, io
     motion.py      prescribed coupled motions                           -> core
-    results.py     xarray Datasets and MoorDyn-style writers            -> numpy, xarray
-    simulate.py    output-interval loop, progress, instability checks   -> system, results
+    results.py     xarray Datasets, the NetCDF writer and its stream    -> numpy, xarray
+    progress.py    the compile notice and its timing (stderr)           -> numba, tqdm
+    simulate.py    output-interval loop, progress, streamed outputs, checkpoints
+                                                                        -> system, results, progress
     post/          fatigue: section loads, stress, rainflow, S-N, Miner -> numpy, xarray
     studies/       parametric sweeps: spec, parameters, case runner, executors
                                                                         -> simulate, post, system, io

@@ -2,28 +2,36 @@
 
     moorline run DECK|SYSTEM.yaml [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
                  [--waves jonswap:Hs=3.5,Tp=7.5,heading=180,seed=1] [--current 1.0@180]
+                 [--checkpoint-every S] [--resume CHECKPOINT] [--force]
     moorline statics DECK [--out DIR] [--quasi-static [--json] [--offset x,y,z,rx,ry,rz] [--friction CB]]
-    moorline check DECK
+    moorline check DECK [--strict]
     moorline sweep STUDY.yaml [--workers N] [--scheduler ADDRESS] [--out DIR] [--no-resume]
     moorline fatigue RESULT.nc --do 0.040 [--di 0.020] --alpha 6.098e19 --m 6.238 [--unit 1e6]
 
 ``run`` reads a MoorDyn v2 deck, finds the initial equilibrium, imposes the coupled motion and
 writes MoorDyn-style output (``<base>.out`` with the OUTPUTS channels, ``<base>_Line<n>.out`` as the
-line output flags ask) plus a NetCDF file ``<base>.nc`` with everything. Files are written only
-when the run succeeds, each atomically.
+line output flags ask) plus a NetCDF file ``<base>.nc`` with everything. The files are written as
+the run goes (every few seconds of wall time): a run that is killed or fails leaves them valid up to
+their last write, the NetCDF file marked ``complete = 0``. ``--checkpoint-every S`` writes
+``<base>.checkpoint.npz`` every S simulated seconds; ``--resume`` continues from it (same deck
+and options) and appends to the files, bitwise as if the run had never stopped. The first run of
+a deck of a new kind compiles the kernels (said on stderr); the compile time is kept out of the
+run's wall time and real-time factor.
 
 ``sweep`` runs a parametric study (see :mod:`moorline.studies`); ``fatigue`` post-processes one run
 (section stress around the cable, rainflow, S-N damage; see :mod:`moorline.post`).
 
-Exit codes: 0 success, 2 bad input (deck, motion file, study file, arguments), 3 the simulation
-or some sweep cases failed, or the initial conditions did not converge (``run`` and ``statics``;
-``--accept-unconverged-ic`` goes on).
+Exit codes: 0 success, 2 bad input (deck, motion file, study file, arguments, an output folder
+that cannot be made, a checkpoint of another model), 3 the simulation or some sweep cases failed,
+or the initial conditions did not converge (``run`` and ``statics``; ``--accept-unconverged-ic``
+goes on); ``check --strict`` exits 1 when the check has warnings.
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
+import math
 import sys
 import time
 from pathlib import Path
@@ -31,7 +39,8 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .errors import DeckError, SimulationError
+from .errors import CheckpointError, DeckError, SimulationError
+from .model import ModelError
 
 log = logging.getLogger("moorline")
 
@@ -141,16 +150,23 @@ def _out_dir(args) -> Path:
     return Path(args.out) if args.out else Path(args.deck).resolve().parent
 
 
+def _make_out_dir(out: Path) -> Path:
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise _ArgumentError(f"cannot create the output folder {out}: {e.strerror or e}") from None
+    return out
+
+
 def cmd_run(args) -> int:
-    from .io.outputs import OutputRecorder
+    from .io.outstream import OutStream
     from .motion import Trajectory
-    from .results import write_netcdf
+    from .results import NetCDFStream
     from .simulate import simulate
 
     system = _load(args)
-    out = _out_dir(args)
+    out = _make_out_dir(_out_dir(args))
     base = Path(args.deck).stem
-    out.mkdir(parents=True, exist_ok=True)
     if system.model.options.writeLog > 0:
         _setup_logging(args.verbose, out / f"{base}.log")
     motion = None
@@ -158,50 +174,82 @@ def cmd_run(args) -> int:
         motion = Trajectory.from_csv(args.motion, n_dof=system.n_coupled_dof, interpolation=args.interp)
     elif system.n_coupled_dof:
         log.info("no --motion given: the %d coupled DOF stay where the deck puts them", system.n_coupled_dof)
-    t0 = time.perf_counter()
-    recorders = []
+    checked = []
 
-    def record(sys_):
-        if not recorders:
-            _check_ic(sys_, args)
-            recorders.append(OutputRecorder(sys_))
-        recorders[0].record()
+    def check_ic_once(sys_):
+        """Stop on an unconverged start (at the first output, right after the initial conditions)."""
+        if not checked:
+            checked.append(True)
+            if not args.resume:
+                _check_ic(sys_, args)
 
     run = args.run_settings
     if args.duration is None:
         args.duration = run.get("duration", 60.0)
     if args.dt_out is None:
         args.dt_out = run.get("dt_out")
-    ds = simulate(system, args.duration, motion, dt_out=args.dt_out, solve_ic=not args.no_ic,
-                  record_nodes=not args.no_nodes, progress=False if args.quiet_progress else None,
-                  on_output=[record])
-    wall = time.perf_counter() - t0
-    written = []
-    if not system.model.options.disableOutput:
-        written += recorders[0].write(out, base)
-    written.append(write_netcdf(ds, out / f"{base}.nc"))
+    cursors = {}
+    if args.resume:
+        cursors = system.load(args.resume).get("outputs", {})
+        if system.t >= args.duration - 1e-9:
+            raise _ArgumentError(f"--resume {args.resume}: the checkpoint is at t = {system.t:g} s, not before "
+                                 f"--duration {args.duration:g} s: nothing to continue")
+    t_resumed = system.t
+    writers = [] if system.model.options.disableOutput else [OutStream(out, base, resume=cursors.get("out"))]
+    nc = NetCDFStream(out / f"{base}.nc", resume=cursors.get("netcdf"))
+    writers.append(nc)
+    checkpoint = out / f"{base}.checkpoint.npz" if args.checkpoint_every else None
+    t0 = time.perf_counter()
+    try:
+        ds = simulate(system, args.duration - system.t, motion, dt_out=args.dt_out, solve_ic=not args.no_ic,
+                      record_nodes=not args.no_nodes, progress=False if args.quiet_progress else None,
+                      writers=writers, on_output=[check_ic_once], checkpoint=checkpoint,
+                      checkpoint_every=args.checkpoint_every,
+                      force=args.force, compile_notice=True)
+    except SimulationError as e:
+        files = [str(p) for w in writers for p in w.paths if p.exists()]
+        kept = (f"Partial results up to t = {system.t:.6g} s are in {', '.join(files)} (the NetCDF file is marked "
+                "complete = 0)." if files else "No result files were written.")
+        raise SimulationError(f"{e}\n{kept}") from None
+    total = time.perf_counter() - t0
+    written = [p for w in writers for p in w.paths]
+    if checkpoint is not None and checkpoint.exists():
+        written.append(checkpoint)
     ic = system.ic_report
     print(f"moorline {__version__}: {args.deck}")
     print(f"  {len(system.lines)} lines, {len(system.points)} points, {system.layout.n_rows} free 3-DOF rows, "
           f"{system.n_coupled_dof} coupled DOF; {system.scheme_label}, dtM = {system.dtM:.4g} s")
-    if ic.get("method"):
+    if args.resume:
+        print(f"  resumed from {args.resume} at t = {t_resumed:.6g} s")
+    elif ic.get("method"):
         state = "converged" if ic.get("converged") else ("stalled" if ic.get("stalled") else "NOT converged")
-        print(f"  initial conditions: {ic['method']}, {state} after {ic['pseudo_time']:.4g} s pseudo time")
+        print(f"  initial conditions: {ic['method']}, {state} after {ic['pseudo_time']:.4g} s pseudo time "
+              f"({ds.attrs['init_time_s']:.3g} s wall time)")
     print(f"  {system.stability['text']}")
-    print(f"  simulated {args.duration:g} s in {wall:.3g} s wall time ({ds.attrs['real_time_factor']:.3g} x real time,"
-          f" incl. initial conditions)")
+    if ds.attrs["compile_time_s"] > 0.05:
+        print(f"  compiled kernels for this machine in {ds.attrs['compile_time_s']:.3g} s (first run of this kind "
+              "of deck only: they are cached)")
+    print(f"  simulated {args.duration - t_resumed:g} s in {ds.attrs['wall_time_s']:.3g} s wall time "
+          f"({ds.attrs['real_time_factor']:.3g} x real time); {total:.3g} s in all")
+    full_ds = ds
+    if args.resume:  # the summary covers the whole run, from the file the resumed run appended to
+        import xarray as xr
+
+        with xr.open_dataset(nc.path, engine="h5netcdf") as full:
+            full_ds = full.load()
+    tb = full_ds.line_tension_b
     for ln in system.lines:
-        tb = ds.line_tension_b.sel(line=ln.number).values
-        print(f"  line {ln.number}: fairlead tension min {tb.min() / 1e3:.1f} kN, mean {tb.mean() / 1e3:.1f} kN, "
-              f"max {tb.max() / 1e3:.1f} kN")
+        t = tb.sel(line=ln.number).values
+        print(f"  line {ln.number}: fairlead tension min {t.min() / 1e3:.1f} kN, mean {t.mean() / 1e3:.1f} kN, "
+              f"max {t.max() / 1e3:.1f} kN")
     fl = system.layout.fl
     for b in fl.body:
-        pose = ds.body_pose.sel(body=int(b) + 1).values
+        pose = full_ds.body_pose.sel(body=int(b) + 1).values
         print(f"  floating body {int(b) + 1}: surge mean {pose[:, 0].mean():.3f} m, std heave {pose[:, 2].std():.3f} "
               f"m, pitch {np.degrees(pose[:, 4]).std():.3f} deg, yaw {np.degrees(pose[:, 5]).std():.3f} deg")
-    if "pto_power" in ds:
-        for j in ds.joint.values:
-            P = ds.pto_power.sel(joint=j).values
+    if "pto_power" in full_ds:
+        for j in full_ds.joint.values:
+            P = full_ds.pto_power.sel(joint=j).values
             print(f"  joint {j}: mean PTO power {P.mean() / 1e3:.2f} kW, max {P.max() / 1e3:.1f} kW")
     for p in written:
         print(f"  wrote {p}")
@@ -221,6 +269,7 @@ def _check_ic(system, args) -> None:
 
 
 def cmd_statics(args) -> int:
+    from .progress import CompileWatch
     from .results import Recorder, write_netcdf
 
     if args.quasi_static:
@@ -229,7 +278,8 @@ def cmd_statics(args) -> int:
         if getattr(args, flag) not in (None, False):
             raise DeckError(f"--{flag} needs --quasi-static")
     system = _load(args)
-    system.init(solve_ic=True)
+    with CompileWatch(announce=True):
+        system.init(solve_ic=True)
     ic = system.ic_report
     print(f"initial conditions: {ic.get('method', 'catenary start only')}, "
           f"{'converged' if ic.get('converged') else 'stalled' if ic.get('stalled') else 'NOT converged'}, "
@@ -333,7 +383,14 @@ def cmd_check(args) -> int:
     print(f"  {text}")
     for key, val in m.options.not_acted_on.items():
         print(f"  option {key} = {val}: read but not acted on by this version")
-    return 0 if system.dtM <= limit else 1
+    warnings = []
+    if system.dtM > limit:
+        warnings.append(f"dtM = {system.dtM:.4g} s is above the estimated stability limit {limit:.3g} s of "
+                        f"{system.scheme_label}: the run may go unstable (the estimate is conservative; see the "
+                        "governing mode above)")
+    for w in warnings:
+        print(f"moorline: warning: {w}", file=sys.stderr)
+    return 1 if warnings and args.strict else 0
 
 
 def cmd_sweep(args) -> int:
@@ -385,6 +442,9 @@ def cmd_fatigue(args) -> int:
         ds = xr.load_dataset(args.results, engine="h5netcdf")
     except (OSError, ValueError) as e:
         raise DeckError(f"cannot read results: {e}", file=Path(args.results)) from None
+    if ds.attrs.get("complete", 1) == 0:
+        log.warning("%s holds an incomplete run (it stopped at t = %s s: %s)", args.results,
+                    ds.attrs.get("simulated_until"), ds.attrs.get("status", "killed or still running"))
     deck = args.deck or ds.attrs.get("source")
     model = read_deck(Path(deck)) if deck else None
     if model is None and args.EI is None:
@@ -416,29 +476,50 @@ def cmd_fatigue(args) -> int:
     return 0
 
 
+class _ArgumentError(Exception):
+    """A bad command-line value found after parsing (exit code 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``moorline run: argument --duration: ...`` and exit code 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: {message} (see {self.prog} --help)\n")
+
+
+def _positive(text: str) -> float:
+    """A finite number > 0 (a duration, time step or interval)."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return v
+
+
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="moorline", description="Lumped-mass mooring and cable dynamics "
-                                 "(MoorDyn v2 decks).")
+    ap = _Parser(prog="moorline", description="Lumped-mass mooring and cable dynamics (MoorDyn v2 decks).")
     ap.add_argument("--version", action="version", version=f"moorline {__version__}")
-    sub = ap.add_subparsers(dest="command", required=True)
+    sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     def common(p):
         p.add_argument("deck", help="MoorDyn v2 input file, or a system file (.yaml) naming one")
         p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
-        p.add_argument("--dtM", type=float, help="override the internal time step [s]")
+        p.add_argument("--dtM", type=_positive, help="override the internal time step [s]")
         p.add_argument("--scheme", help="override the time scheme (Euler, LEuler, Heun, RK2, RK4, AB2-4, BEuler<M>, "
                        "Midpoint<M>, ACA<M>, Wilson<M>, GenAlpha[rho_inf])")
 
     p = sub.add_parser("run", help="simulate a deck with an imposed coupled motion")
     common(p)
-    p.add_argument("--duration", type=float, default=None,
+    p.add_argument("--duration", type=_positive, default=None,
                    help="simulated time [s] (default: the system file's, else 60)")
     p.add_argument("--motion", help="CSV: header row, time t [s] first, one column per coupled DOF")
     p.add_argument("--interp", choices=("cubic", "linear"), default="cubic",
                    help="interpolation of the motion samples (cubic: smooth velocities; linear: as a MoorDyn "
                    "driver stepping from sample to sample)")
     p.add_argument("--out", help="output folder (default: the deck's folder)")
-    p.add_argument("--dt-out", type=float, default=None, help="output interval [s] (default: dtOut or 0.1)")
+    p.add_argument("--dt-out", type=_positive, default=None, help="output interval [s] (default: dtOut or 0.1)")
     p.add_argument("--waves", help="a sea instead of the deck's WaveKin: jonswap:Hs=3.5,Tp=7.5[,gamma=3.3]"
                    "[,heading=180][,seed=1][,n=200][,ramp=20], pm:Hs=..,Tp=.. or regular:H=2,T=8[,heading=..]")
     p.add_argument("--current", help="a uniform current instead of the deck's Currents: SPEED@HEADING, e.g. 1.0@180")
@@ -450,6 +531,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run even when the initial conditions did not converge (default: stop, exit code 3)")
     p.add_argument("--no-nodes", action="store_true", help="keep node data out of the NetCDF file")
     p.add_argument("--quiet-progress", action="store_true", help="no progress bar (default: shown on a terminal)")
+    p.add_argument("--checkpoint-every", type=_positive, metavar="SECONDS",
+                   help="write <out>/<base>.checkpoint.npz every SECONDS of simulated time (for --resume)")
+    p.add_argument("--resume", metavar="CHECKPOINT", help="continue an interrupted run from its checkpoint (same "
+                   "deck, options and --out), appending to its output files")
+    p.add_argument("--force", action="store_true", help="run even when the number of time steps is astronomical")
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("statics", help="find the initial equilibrium and report it")
@@ -468,6 +554,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check", help="read a deck and report its size and time-step stability")
     common(p)
+    p.add_argument("--strict", action="store_true", help="exit 1 when the check has warnings (stability advice)")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("sweep", help="run a parametric study (YAML study file); resumes an interrupted sweep")
@@ -506,13 +593,18 @@ def main(argv=None) -> int:
     _setup_logging(args.verbose)
     try:
         return args.func(args)
-    except DeckError as e:
+    except (DeckError, ModelError, CheckpointError) as e:
         print(f"moorline: input error: {e}", file=sys.stderr)
         return 2
+    except _ArgumentError as e:
+        print(f"moorline {args.command}: {e}", file=sys.stderr)
+        return 2
     except SimulationError as e:
-        print(f"moorline: simulation failed: {e}\nNo result files were written.", file=sys.stderr)
+        print(f"moorline: simulation failed: {e}", file=sys.stderr)
         return 3
-
+    except (ValueError, OSError) as e:  # a motion file, an output folder, a value out of range
+        print(f"moorline {args.command}: {e}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -53,3 +53,15 @@ class StudyError(ValueError):
 
 class SweepError(RuntimeError):
     """Some cases of a sweep failed (the others are stored; running the sweep again retries them)."""
+
+
+class CheckpointError(ValueError):
+    """A checkpoint that cannot be loaded into this system (another model, scheme or time step, a
+    damaged file, or outputs of the interrupted run that are missing)."""
+
+
+class InputLimitError(DeckError):
+    """Input that parses but would make a run endless or meaningless (an astronomical number of
+    time steps, a water density or time step of 1e-308); the message says which value and what
+    would be reasonable. ``force`` (``--force`` on the command line) skips the checks that are
+    only estimates."""

@@ -1,4 +1,5 @@
-"""Simulation results as a labelled :class:`xarray.Dataset`, and its NetCDF writer.
+"""Simulation results as a labelled :class:`xarray.Dataset`, its NetCDF writer, and
+:class:`NetCDFStream`, which writes them as a run goes (attribute ``complete`` 0 until it ends).
 
 Dimensions: ``time``, ``node`` (all nodes of all lines), ``segment`` (all segments), ``line``,
 ``point``, ``xyz`` and ``dof`` (coupled DOFs). Node and segment coordinates say which line they
@@ -15,11 +16,13 @@ import tempfile
 from dataclasses import asdict
 from pathlib import Path
 
+import h5netcdf
 import numpy as np
 import xarray as xr
 
 from . import __version__
 from .core.layout import FC_NAMES
+from .errors import CheckpointError
 
 
 def model_hash(model) -> str:
@@ -112,7 +115,8 @@ class Recorder:
                 d["joint_slide_rate"].append(s.fwork.jt[:, 1].copy())
                 d["pto_power"].append(s.fwork.jt[:, 2].copy())
 
-    def to_dataset(self) -> xr.Dataset:
+    def to_dataset(self, start: int = 0, stop: int | None = None) -> xr.Dataset:
+        """The samples ``start:stop`` (default all) as a Dataset."""
         s = self.system
         lay = s.layout
         nl = len(s.lines)
@@ -122,7 +126,7 @@ class Recorder:
         seg_line = np.repeat(np.arange(1, nl + 1), lay.line_N)
         seg_index = _cat([np.arange(1, n + 1) for n in lay.line_N]).astype(int)
         seg_s = _cat([(np.arange(lay.line_N[i]) + 0.5) * lay.line_L[i] / lay.line_N[i] for i in range(nl)])
-        d = {k: np.asarray(v) for k, v in self.data.items() if len(v)}
+        d = {k: np.asarray(v[start:stop]) for k, v in self.data.items() if len(v)}
         T = ("time",)
         dv = {}
 
@@ -169,7 +173,7 @@ class Recorder:
             add("coupled_position", ("dof",), {"units": "m"})
             add("coupled_force", ("dof",), {"units": "N", "long_name": "load of the mooring on the coupled DOF"})
         coords = {
-            "time": ("time", np.asarray(self.t), {"units": "s"}),
+            "time": ("time", np.asarray(self.t[start:stop], dtype=float), {"units": "s"}),
             "xyz": ("xyz", ["x", "y", "z"]),
             "line": ("line", np.arange(1, (d["line_tension_b"].shape[1] if "line_tension_b" in d else nl) + 1)),
             "point": ("point", np.arange(1, len(s.points) + 1)),
@@ -220,14 +224,15 @@ class Recorder:
         return xr.Dataset(dv, coords=coords, attrs=attrs)
 
 
-def write_netcdf(ds: xr.Dataset, path) -> Path:
-    """Write ``ds`` to ``path`` atomically (a temporary file renamed into place)."""
+def write_netcdf(ds: xr.Dataset, path, *, unlimited_dims=None) -> Path:
+    """Write ``ds`` to ``path`` atomically (a temporary file renamed into place); ``unlimited_dims``
+    as xarray's (dimensions a later append may extend)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine="h5netcdf")
+        ds.to_netcdf(tmp, engine="h5netcdf", unlimited_dims=unlimited_dims)
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates owner-only files
@@ -236,3 +241,99 @@ def write_netcdf(ds: xr.Dataset, path) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+class NetCDFStream:
+    """Writes the samples of a :class:`Recorder` to a NetCDF file as a run goes.
+
+    The file is created at the first :meth:`flush` (with an unlimited ``time`` dimension) and the
+    samples recorded since are appended at every later flush, the file being opened, extended
+    and closed each time, so a run that is killed leaves a valid file up to its last flush. Its
+    attribute ``complete`` is 0 until :meth:`finish` sets it to 1 (a run that stops on an error
+    keeps 0 and says why in ``status``); ``simulated_until`` is the time of the last sample.
+
+    Parameters
+    ----------
+    path : path-like
+    resume : dict, optional
+        A checkpoint's cursor (:meth:`cursor`): the file is cut back to the samples it had when the
+        checkpoint was written, and appended to.
+    """
+
+    name = "netcdf"
+
+    def __init__(self, path, *, resume: dict | None = None):
+        self.path = Path(path)
+        self._resume = resume
+        self.recorder: Recorder | None = None
+        self.rows = 0
+        self._flushed = 0
+        self._t_written = -np.inf
+
+    @property
+    def paths(self) -> list[Path]:
+        """The file, once written."""
+        return [self.path] if self.rows else []
+
+    def start(self, system, recorder: Recorder) -> None:
+        self.recorder = recorder
+        if self._resume is None:
+            return
+        rows = int(self._resume["rows"])
+        try:
+            with h5netcdf.File(self.path, "a") as f:
+                have = f.dimensions["time"].size
+                if have < rows:
+                    raise CheckpointError(f"{self.path} has {have} samples, fewer than the {rows} it had when the "
+                                          "checkpoint was written")
+                f.resize_dimension("time", rows)
+                f.attrs["complete"] = 0
+                self._t_written = float(f.variables["time"][rows - 1]) if rows else -np.inf
+        except OSError as e:
+            raise CheckpointError(f"cannot reopen the results of the interrupted run: {e}") from None
+        self.rows = rows
+
+    def record(self, system) -> None:
+        """Nothing to do: the run's Recorder holds the samples."""
+
+    def flush(self) -> None:
+        """Append the samples recorded since the last flush."""
+        rec = self.recorder
+        n = len(rec.t)
+        start = self._flushed
+        while start < n and rec.t[start] <= self._t_written:
+            start += 1
+        self._flushed = n
+        if start >= n:
+            return
+        ds = rec.to_dataset(start, n)
+        if self.rows == 0:
+            ds.attrs.update(complete=0, simulated_until=float(rec.t[n - 1]))
+            write_netcdf(ds, self.path, unlimited_dims=["time"])
+        else:
+            with h5netcdf.File(self.path, "a") as f:
+                n0 = f.dimensions["time"].size
+                f.resize_dimension("time", n0 + n - start)
+                for name, var in ds.variables.items():
+                    if var.dims and var.dims[0] == "time":
+                        f.variables[name][n0:] = var.values
+                f.attrs["simulated_until"] = float(rec.t[n - 1])
+        self.rows += n - start
+        self._t_written = rec.t[n - 1]
+
+    def finish(self, error: BaseException | None = None, attrs: dict | None = None) -> None:
+        """Write what is left and mark the file complete (or, after ``error``, say why it stops)."""
+        self.flush()
+        if self.rows == 0:
+            return
+        with h5netcdf.File(self.path, "a") as f:
+            for key, val in (attrs or {}).items():
+                f.attrs[key] = val
+            if error is None:
+                f.attrs["complete"] = 1
+            else:
+                f.attrs["status"] = f"stopped at t = {self._t_written:.6g} s: {error}"
+
+    def cursor(self) -> dict:
+        """Samples in the file now (for a checkpoint)."""
+        return {"rows": self.rows}

@@ -31,6 +31,7 @@ import math
 import numpy as np
 import pytest
 
+from moorline.core.features import BENDING
 from moorline.core.layout import Motion, build_layout
 from moorline.core.lines import segment_wet_fraction
 from moorline.core.rhs import rhs
@@ -406,8 +407,11 @@ def run_kernel(model, y, t, motion, kin, cd_scale):
     layout = build_layout(model)
     W = layout.new_work()
     # everything rhs must compute is poisoned first: a value it forgets to (re)set shows up as NaN
+    # (bending forces and clamped-end moments are written only in a system with bending stiffness:
+    # without, no kernel touches them and they keep the zeros of new_work, see core.features)
+    keep = ("features", "U", "Ud", "zeta", "pU") + (() if BENDING in W.features.names else ("Fbend", "end_moment"))
     for name in W._fields:
-        if name not in ("U", "Ud", "zeta", "pU"):
+        if name not in keep:
             getattr(W, name)[...] = np.nan
     W.U[...] = kin["U"]
     W.Ud[...] = kin["Ud"]

@@ -129,15 +129,6 @@ def test_instability_names_time_line_node_and_suggests_dtM():
     assert "line 1 node" in str(err) and "try dtM <=" in str(err)
 
 
-def test_cli_unstable_run_writes_no_result_files(tmp_path, capsys):
-    out = tmp_path / "out"
-    code = cli_main(["run", str(EXAMPLE), "--duration", "5", "--dtM", "0.05", "--out", str(out), "--no-ic"])
-    assert code == 3
-    err = capsys.readouterr().err
-    assert "simulation failed" in err and "No result files were written" in err
-    assert not out.exists() or not any(out.iterdir())
-
-
 # --------------------------------------------------------------------------- simulate / results
 def test_simulate_dataset_schema(tmp_path):
     m = small_model()

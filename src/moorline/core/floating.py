@@ -33,8 +33,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from .jit import kernel
 from .layout import (
     CTL_QS_MOORING,
     CTL_RADIATION,
@@ -57,7 +56,7 @@ from .waterkin import _ramp, fluid_at
 
 
 # ------------------------------------------------------------------------------------ small algebra
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def rel_angles(Rm, R0, out, o):
     """Roll, pitch, yaw of Rm R0^T (the rotation from the mean orientation, global axes,
     Rx Ry Rz) into out[o:o+3]."""
@@ -71,7 +70,7 @@ def rel_angles(Rm, R0, out, o):
     out[o + 2] = math.atan2(-r01, r00)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _excitation(t, X, f, out):
     """Excitation force and moment of floating body ``f`` at time ``t`` into out (6,)."""
     mode = X.ctl[0]
@@ -109,7 +108,7 @@ def _excitation(t, X, f, out):
         out[d] *= r
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _convolution(t, F, fw, f, out):
     """Radiation memory force on floating body ``f`` by convolution of the impulse response with
     the velocity history (trapezoidal rule; the newest interval ends at the current velocity)."""
@@ -154,7 +153,7 @@ def _convolution(t, F, fw, f, out):
 
 
 # ------------------------------------------------------------------------------------ loads
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def floating_loads(t, y, dy, R, E, W, F, FW):
     """Potential-flow, extra and PTO loads of every floating body into W.b6F (A_inf into W.b6M),
     their components into FW.F, and the derivatives of the state-space radiation states."""
@@ -313,7 +312,7 @@ def floating_loads(t, y, dy, R, E, W, F, FW):
                 W.b6M[i, a, b] += F.Ainf[6 * f + a, 6 * f + b]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _joint_axis(F, W, jn):
     """Global slide direction e and the vector d from the parent's reference point to the
     child's (zero for a fixed axis)."""
@@ -331,7 +330,7 @@ def _joint_axis(F, W, jn):
     return ex, ey, ez, W.br[ci, 0] - W.br[pi, 0], W.br[ci, 1] - W.br[pi, 1], W.br[ci, 2] - W.br[pi, 2]
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _relative_velocity(W, ci, pi, dx, dy, dz):
     """Velocity of body ``ci``'s reference point relative to the point of body ``pi`` it is at,
     d = (dx, dy, dz) from ``pi``'s reference point: v_c - v_p - omega_p x d."""
@@ -342,7 +341,7 @@ def _relative_velocity(W, ci, pi, dx, dy, dz):
             W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx))
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def joint_state(F, FW, W, jn):
     """Slide s [m] and its rate [m/s] of joint ``jn`` from the body kinematics in W, into
     FW.jt[jn, 0:2]."""
@@ -365,7 +364,7 @@ def joint_state(F, FW, W, jn):
 
 
 # ------------------------------------------------------------------------------------ group motion
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def floating_motion(R, W, F, FW):
     """Accelerations of the bodies of every group with several members or a joint (one solve per
     group, in reduced coordinates when it has joints) into W.bacc; single bodies are left to the
@@ -502,7 +501,7 @@ def floating_motion(R, W, F, FW):
             W.bacc[ci, a] -= wc * wc * e[a] + 2.0 * wc * e[6 + a]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _joint_violation(F, FW, W, jn, out):
     """How far the child of joint ``jn`` is off its joint: position and rotation-vector errors
     (out[0:6]) and velocity and angular-velocity errors (out[6:12]), from the body kinematics in W."""
@@ -579,7 +578,7 @@ def _joint_violation(F, FW, W, jn, out):
 
 
 # ------------------------------------------------------------------------------------ implicit scheme
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _factor_pair(F, fw, p, h):
     """LU factors of I - h/2 A of state-space pair ``p`` into fw.lu (rows of the pair)."""
     p0 = F.ss_ptr[p]
@@ -591,7 +590,7 @@ def _factor_pair(F, fw, p, h):
     fw.lu_h[p] = h
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def radiation_trapezoid(y0, y1, h, R, F, FW):
     """State-space radiation states at the end of an implicit step of length ``h`` by the
     trapezoidal rule, (I - h/2 A) z1 = (I + h/2 A) z0 + h/2 B (v0 + v1), from the body velocities at
@@ -619,7 +618,7 @@ def radiation_trapezoid(y0, y1, h, R, F, FW):
 
 
 # ------------------------------------------------------------------------------------ after a step
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _project_joints(y, R, W, F, FW):
     """Put every joint's child back on its joint: position, orientation, velocity and angular
     velocity from the parent's state and the slide (projected from the child's own state)."""
@@ -682,7 +681,7 @@ def _project_joints(y, R, W, F, FW):
         y[cu + 5] = wz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _record_history(t, y, F, FW):
     """Velocity samples at t_k = k dt up to ``t`` (linear between the last recorded step end and
     this one) into the convolution's ring buffer."""
@@ -708,7 +707,7 @@ def _record_history(t, y, F, FW):
     fw.hpar[0] = t
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def floating_after_step(t, y, R, W, F, FW):
     """After an accepted step ending at ``t``: children back on their joints; the convolution's
     velocity history."""
@@ -720,7 +719,7 @@ def floating_after_step(t, y, R, W, F, FW):
         _record_history(t, y, F, FW)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def floating_restart(t, y, R, W, F, FW):
     """Forget the radiation memory (state-space states zero, no velocity history) and restart the
     history at time ``t`` with the current velocities (after the initial conditions, or a state

@@ -47,8 +47,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from .features import FLOATING, when
 from .floating import floating_after_step
 from .integrate import RHO_INF, check_state, knot_step, step_end
 from .jacobian import (
@@ -76,6 +76,7 @@ from .jacobian import (
     solve_increment,
     step_jacobian,
 )
+from .jit import kernel
 from .layout import Layout
 from .linestates import MODE_RATE, XC_MODE, end_line_states, keep_rates, start_line_states, store_line_states
 from .rhs import motion_eval, motion_piece, rhs
@@ -202,7 +203,7 @@ def new_implicit_work(layout: Layout, A: ImplicitArrays, dtM: float) -> Implicit
                         z((nb, nl)), z((nb, nb)), z((nb, nl)), z((nb, nb)), np.zeros(nb, dtype=np.int64))
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """G = (1 - alpha_m) a1 + alpha_m a0 - (1 - alpha_f) f(t + h, x1, v1) - alpha_f fs; leaves y
     at the end-of-step state and its derivative in IW.f0."""
@@ -223,7 +224,7 @@ def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
         contact_terms(A, IW, E, B, W, par[2] * h * h * cf, par[3] * h * cf)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _norm2(v):
     s = 0.0
     for i in range(v.size):
@@ -231,7 +232,7 @@ def _norm2(v):
     return s
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit):
     """fs = f(t, y) (the U part), with the stick-slip anchors committed when ``commit``; remembers
     the coupled kinematics it was evaluated with."""
@@ -251,7 +252,7 @@ def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit):
         IW.ck[2, j] = W.ac[j]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _coupled_moved(IW, Mo, W, t, piece):
     """True when the coupled trajectory at ``t`` on ``piece`` is not where fs was evaluated (a
     knot with a velocity or acceleration jump, a new trajectory from the coupling). Evaluates the
@@ -270,7 +271,7 @@ def _coupled_moved(IW, Mo, W, t, piece):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """One generalized-alpha step of length ``h`` in place. Returns 0 on convergence, 1 when the
     Newton iterations did not converge (``y`` then restored to the start of the step).
@@ -292,12 +293,12 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     nd = IW.a1.size
     for i in range(n):
         IW.y0[i] = y[i]
-    if B.ctl[0] == 1:
-        # stick-slip friction anchors are committed at the state at the start of the step (which
-        # moves the friction forces: the derivative there is evaluated again)
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, True)
-    elif _coupled_moved(IW, Mo, W, t, piece):
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, False)
+    # stick-slip friction anchors are committed at the state at the start of the step (which
+    # moves the friction forces: the derivative there is evaluated again); otherwise the derivative
+    # is evaluated again only when the coupled trajectory moved (one call site of rhs for both)
+    commit = B.ctl[0] == 1
+    if commit or _coupled_moved(IW, Mo, W, t, piece):
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit)
     hp = IW.stat[S_HPREV]
     w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
@@ -427,7 +428,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     return 1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, F, FW, vmax, final_eval):
     """Integrate ``y`` in place from ``t`` to ``t_end`` with generalized-alpha steps of at most
     ``dtM``, never across a knot of the coupled trajectory.
@@ -447,7 +448,9 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, F, FW, vmax,
     stat = IW.stat
     if stat[S_AVALID] == 0.0:
         stat[S_HPREV] = 0.0
-        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, -1, False)
+        # typed constants: literal ones would make numba compile _start_derivative (and rhs) once
+        # more for their Literal types (about 4 s each)
+        _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, np.int64(-1), np.bool_(False))
         for i in range(nd):
             IW.a0[i] = IW.fs[i]
         stat[S_AVALID] = 1.0
@@ -468,7 +471,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, F, FW, vmax,
             continue
         stat[S_NSTEP] += 1
         t = step_end(Mo, j, t, h, t_end, tol)
-        floating_after_step(t, y, R, W, F, FW)
+        when(W, FLOATING, floating_after_step, (t, y, R, W, F, FW))
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             stat[S_H] = h_cur

@@ -25,9 +25,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from .floating import radiation_trapezoid
+from .jit import kernel
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
 from .numerics import lu_factor, lu_solve, quat_mul
 from .rhs import rhs
@@ -249,7 +249,7 @@ def colour_units(adj: list[set]) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------- banded LU
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def copy2(src, dst):
     """dst[:, :] = src (an array assignment would need numba's runtime, which these kernels run
     without)."""
@@ -258,7 +258,7 @@ def copy2(src, dst):
             dst[i, j] = src[i, j]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def band_lu(AB, n, kl, ku, piv):
     """LU factorization with partial pivoting of the banded matrix A (LAPACK dgbtrf storage:
     A[i, j] in AB[kl + ku + i - j, j], the first kl rows free for fill-in). Returns 0, or
@@ -297,7 +297,7 @@ def band_lu(AB, n, kl, ku, piv):
     return 0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def band_solve(AB, n, kl, ku, piv, b):
     """Solve A x = b in place with the factors of :func:`band_lu`."""
     kv = kl + ku
@@ -322,7 +322,7 @@ def band_solve(AB, n, kl, ku, piv, b):
 
 
 # ---------------------------------------------------------------------------------------------- state algebra
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _rotate_quat(q0, o0, tx, ty, tz, out, o):
     """out[o:o+4] = exp(theta) (x) q0[o0:o0+4], theta a rotation vector in global axes."""
     ang = math.sqrt(tx * tx + ty * ty + tz * tz)
@@ -333,7 +333,7 @@ def _rotate_quat(q0, o0, tx, ty, tz, out, o):
     quat_mul(math.cos(0.5 * ang), s * tx, s * ty, s * tz, q0, o0, out, o)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def displace(y0, dq, y, n3, n6, cq):
     """Positions of ``y`` = those of ``y0`` moved by ``cq * dq`` (U-space increments: metres,
     and rotation vectors in global axes for the orientations)."""
@@ -347,7 +347,7 @@ def displace(y0, dq, y, n3, n6, cq):
         _rotate_quat(y0, o + 3, cq * dq[d + 3], cq * dq[d + 4], cq * dq[d + 5], y, o + 3)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def newmark(y0, a0, a1, h, par, y1, R, F, FW, G):
     """End-of-step state ``y1`` from (y0, a0, a1), with the radiation states of floating bodies
     advanced over the step (:func:`~moorline.core.floating.radiation_trapezoid`); ``G`` is scratch
@@ -366,7 +366,7 @@ def newmark(y0, a0, a1, h, par, y1, R, F, FW, G):
         radiation_trapezoid(y0, y1, h, R, F, FW)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def contact_terms(A, IW, E, B, W, cx, cv):
     """Seabed contact terms of the Jacobian at the state of the last derivative evaluation (W), into
     IW.cst[C_NOW]: each internal line node below the seabed adds s M^-1 n n^T to its diagonal block,
@@ -408,7 +408,7 @@ def contact_terms(A, IW, E, B, W, cx, cv):
         cst[C_NOW, m, 7] = s * math.sqrt(mx * mx + my * my + mz * mz)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def contact_moved(A, IW, tol, diag):
     """True when the contact term of a node changed since the factorization by more than ``tol``
     times its diagonal (``diag``: the inertia term 1 - alpha_m, plus the larger contact term)."""
@@ -421,7 +421,7 @@ def contact_moved(A, IW, tol, diag):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def clear(IW):
     """Zero the Jacobian storage (band and border) before an assembly."""
     IW.AB[:, :] = 0.0
@@ -430,7 +430,7 @@ def clear(IW):
     IW.BB[:, :] = 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def factor(A, IW):
     """Factor the assembled Jacobian: banded LU of the leading block and, with border DOFs, the LU
     of the Schur complement A_BB - A_BL A_LL^-1 A_LB. Returns 0, or nonzero for a zero pivot."""
@@ -456,7 +456,7 @@ def factor(A, IW):
     return 0 if lu_factor(IW.S, 0, nb, IW.spiv) else nl + 1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def refactor(A, IW):
     """Factor the finite-difference Jacobian with its contact terms moved from the iterate it was
     built at (C_FD) to the last evaluation (C_NOW). Returns the LU status."""
@@ -484,7 +484,7 @@ def refactor(A, IW):
     return factor(A, IW)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def assemble(A, IW, f0, f1, uoff, cu, k, diag, scale, eps):
     """Columns of colour (cu, component k) from the derivative difference f1 - f0:
     J[i, j] = diag [i == j] - scale (f1_i - f0_i) / eps_j, into the band and border storage."""
@@ -520,7 +520,7 @@ def assemble(A, IW, f0, f1, uoff, cu, k, diag, scale, eps):
                     IW.BB[pr - nl, pc - nl] = val
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def fd_steps(IW, n3, n6, rel, div):
     """Finite-difference perturbation of each unknown into IW.eps: ``rel`` times the size of its
     coordinate at the start (at least 1; rotations 1), divided by ``div`` (the factor from the
@@ -535,7 +535,7 @@ def fd_steps(IW, n3, n6, rel, div):
             IW.eps[d + c] = rel * max(1.0, abs(IW.y0[o + c])) / div
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def shift_colour(A, cu, k, v, eps, sign):
     """v += sign * eps on the columns of colour (cu, component k); False if there are none."""
     any_col = False
@@ -548,7 +548,7 @@ def shift_colour(A, cu, k, v, eps, sign):
     return any_col
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """Jacobian of the generalized-alpha residual with respect to a1 at the current iterate
     (IW.f0 must hold the derivative at the iterate), factored in place. Returns the LU status."""
@@ -585,7 +585,7 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     return factor(A, IW)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def solve_increment(A, IW):
     """da = -J^{-1} G (through the solver's order: the banded leading block, then the border by its
     Schur complement)."""

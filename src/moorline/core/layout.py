@@ -19,6 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..model import ELASTIC, SYROPE, SYROPE_WC_TYPES, BodyKind, Curve, Model, PointKind, RodKind
+from .features import Features, features_of
 from .linestates import N_XC, NWC, XC_HIST, XC_VIV, XC_WCLINE, build_working_curve
 from .seabed import CONTACT_NORMAL, CONTACT_VERTICAL, FRIC_DIRECTIONAL, FRIC_ISOTROPIC, FRIC_STICKSLIP
 from .waterkin import build_water_kinematics, still_water
@@ -188,6 +189,9 @@ class Seabed(NamedTuple):
 class Work(NamedTuple):
     """Scratch and diagnostic arrays filled by every derivative evaluation."""
 
+    #: what the system has (core.features.Features); numba sees it in the type of Work, so the
+    #: kernels of a system are compiled without the code of the features it lacks
+    features: Features
     r: np.ndarray  # (n_nodes, 3) node positions
     v: np.ndarray  # (n_nodes, 3) node velocities
     U: np.ndarray  # (n_nodes, 3) water velocity at nodes
@@ -487,7 +491,8 @@ class Layout:
         npnt = len(self.points.kind)
         nc = self.n_coupled_dof
         z = np.zeros
-        return Work(r=z((nn, 3)), v=z((nn, 3)), U=z((nn, 3)), Ud=z((nn, 3)), zeta=z(nn), T=z((ns, 3)),
+        return Work(features=features_of(self),
+                    r=z((nn, 3)), v=z((nn, 3)), U=z((nn, 3)), Ud=z((nn, 3)), zeta=z(nn), T=z((ns, 3)),
                     Td=z((ns, 3)), seg_len=z(ns), seg_ldot=z(ns), seg_F=z(ns), seg_e=z((ns, 3)), q=z((nn, 3)),
                     F=z((nn, 3)), Fhyd=z((nn, 3)), Fbed=z((nn, 3)), W=z((nn, 3)), mass=z((nn, 3)),
                     acc=z((nn, 3)), kurv=z(nn), Fbend=z((nn, 3)), end_moment=z((nl, 2, 3)), rodr=z((nr, 2, 3)),

@@ -11,8 +11,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from .features import BENDING, STICKSLIP, either, when
+from .jit import kernel
 from .layout import ATT_ROD_A, ATT_ROD_B
 from .linestates import VIS_ELASTIC, segment_axial
 from .numerics import bracket, unit3
@@ -21,7 +22,7 @@ from .seabed import FRIC_STICKSLIP, seabed_at, seabed_force, seabed_force_sticks
 _EPS = 1e-12
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def table_interp(x, y, start, n, v):
     """Piecewise-linear interpolation in ``x[start:start+n]``, clamped at both ends."""
     if v <= x[start]:
@@ -34,7 +35,7 @@ def table_interp(x, y, start, n, v):
     return y[lo] + f * (y[lo + 1] - y[lo])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
     """Submerged fraction of the segment between nodes ``a`` and ``b`` of ``r`` (spec 3.6)."""
     zs = 0.5 * (zeta_a + zeta_b)
@@ -66,7 +67,7 @@ def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
     return -zlow / (-zlow + zup)
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def line_forces(L, E, B, W, cd_scale):
     """Evaluate every load of every line and the accelerations of the internal line nodes.
 
@@ -189,7 +190,7 @@ def line_forces(L, E, B, W, cd_scale):
             w_seg_F[s] = segment_wet_fraction(r, a, b, w_zeta[a], w_zeta[b], d)
 
     # ---- curvature and bending forces (spec 3.10)
-    line_bending(L, W)
+    when(W, BENDING, line_bending, (L, W))
 
     # ---- nodes
     for li in range(nl):
@@ -297,9 +298,12 @@ def line_forces(L, E, B, W, cd_scale):
                 if outside:
                     ctl[2] += 1
             if r[n, 2] < zb:
-                if stickslip:
-                    bx, by, bz = seabed_force_stickslip(E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1],
-                                                        r[n, 2], v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam)
+                if stickslip:  # (compiled only for systems with stick-slip friction: core.features)
+                    bx, by, bz = either(W, STICKSLIP, seabed_force_stickslip,
+                                        (E, zb, bnx, bny, bnz, anchor, slip, ctl, n, r[n, 0], r[n, 1], r[n, 2],
+                                         v[n, 0], v[n, 1], v[n, 2], qx, qy, qz, d, lam), seabed_force,
+                                        (E, zb, bnx, bny, bnz, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1], v[n, 2],
+                                         qx, qy, qz, d, lam))
                 else:
                     bx, by, bz = seabed_force(E, zb, bnx, bny, bnz, r[n, 0], r[n, 1], r[n, 2], v[n, 0], v[n, 1],
                                               v[n, 2], qx, qy, qz, d, lam)
@@ -344,7 +348,7 @@ def line_forces(L, E, B, W, cd_scale):
                 w_acc[n, 2] = 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def end_tangent(L, W, li, j):
     """Direction a clamped end ``j`` (0: end A, 1: end B) of line ``li`` takes from its rod: the
     cable leaves the rod straight, so end A on rod end B and end B on rod end A follow the rod axis
@@ -355,7 +359,7 @@ def end_tangent(L, W, li, j):
     return sgn * W.rodq[r, 0], sgn * W.rodq[r, 1], sgn * W.rodq[r, 2]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _kappa(lam, ax, ay, az, bx, by, bz):
     """Curvature (4/lam) sin(theta/2) between unit vectors a and b over length lam, and the unit
     bending axis a x b (zero when a and b are parallel)."""
@@ -368,7 +372,7 @@ def _kappa(lam, ax, ay, az, bx, by, bz):
     return kap, px, py, pz
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel
 def line_bending(L, W):
     """Curvature at every node of every line and, for lines with bending stiffness, the bending
     forces: at each bent node a self-equilibrated triple of forces on the node and its two
@@ -475,7 +479,7 @@ def line_bending(L, W):
             end_moment[li, j, 2] = sgn * m * pz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def add_end_mass(M, p, m, ma, mq, q, n):
     """Add the mass matrix m I + ma (I - q q^T) + mq q q^T of a line end node (tangent ``q[n]``)
     to point ``p``."""
@@ -488,7 +492,7 @@ def add_end_mass(M, p, m, ma, mq, q, n):
             M[p, a, b] += val
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def solve3(M, p, f, out):
     """Solve the 3x3 system M[p] x = f[p] (Cramer's rule) into ``out[p]``; False if singular."""
     a = M[p, 0, 0]

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .jit import kernel
 
 # LineArrays.vis: axial model of each line (mirrors moorline.model ELASTIC ... SYROPE)
 VIS_ELASTIC = 1
@@ -64,13 +64,13 @@ NWC = 30
 VIV_NM = 500.0
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def xs_offset(R):
     """Index in the state where the line states start (after the radiation states)."""
     return 6 * R.dims[0] + 13 * R.dims[1] + R.dims[2]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _col_interp(A, r0, n, cx, cy, v):
     """Linear interpolation of column ``cy`` against column ``cx`` (increasing) of rows
     ``r0:r0+n`` of the table ``A``, clamped at both ends (MoorDyn's ``interp``)."""
@@ -91,13 +91,13 @@ def _col_interp(A, r0, n, cx, cy, v):
     return A[lo, cy] + f * (A[lo + 1, cy] - A[lo, cy])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _equal(a, b):
     """MoorDyn's EqualRealNos: equal within 50 machine epsilons of max(|a + b|, 1)."""
     return abs(a - b) <= max(abs(a + b), 1.0) * 50.0 * 2.220446049250313e-16
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def build_working_curve(L, li, w, tmax):
     """Working curve of line ``li`` for the largest mean tension ``tmax`` into ``L.sy_wc[w]``
     (columns: total strain, tension, slow strain; spec 3.4.3)."""
@@ -128,7 +128,7 @@ def build_working_curve(L, li, w, tmax):
         wc[i, 2] = x - math.log(1.0 + beta / alpha * t) / beta
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _wc_index(L, li, s):
     """Row of ``sy_wc`` that segment ``s`` of line ``li`` uses: its own, or its line's first
     segment's when one working curve is shared per line (MoorDyn-C)."""
@@ -137,7 +137,7 @@ def _wc_index(L, li, s):
     return s
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _rate(L, li, s, st, dl, ldot, l0, EA):
     """(tension magnitude, ds/dt, Tmean) of the static branch of segment ``s`` with stretch state
     ``st`` [m], total stretch ``dl`` [m] and stretch rate ``ldot`` [m/s] (spec 3.4)."""
@@ -169,7 +169,7 @@ def _rate(L, li, s, st, dl, ldot, l0, EA):
     return ea1 * st / l0, sdot, 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _static_state(L, li, s, dl, l0, EA, guess):
     """Stretch state at rest (ds/dt = 0, no stretch rate) for a total stretch ``dl``. A Syrope
     segment keeps its state ``guess``: its slow strain is history (the mean tension Tmean0 the
@@ -190,7 +190,7 @@ def _static_state(L, li, s, dl, l0, EA, guess):
     return st
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _mean_stiffness(L, li, st, l0, EA):
     """(EA_d, EA_1) of the mean-load dependent model at stretch state ``st``."""
     alpha = L.vis_par[li, 0]
@@ -204,7 +204,7 @@ def _mean_stiffness(L, li, st, l0, EA):
     return ea2, ea2 * EA / (ea2 - EA)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _trapezoid_state(L, li, s, x, dl, ldot, l0, EA, h):
     """Stretch state at the end of an implicit step: s1 = s0 + h/2 (f0 + f(s1)), with s0, f0 the
     state and rate at the start (``xs_s0``, ``xs_f0``). Linear in s1 for the constant model, a
@@ -236,7 +236,7 @@ def _trapezoid_state(L, li, s, x, dl, ldot, l0, EA, h):
     return st
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def segment_axial(L, W, li, s, ls, ldot, l0):
     """Tension and internal damping magnitudes [N] of segment ``s`` of a viscoelastic or Syrope
     line ``li`` with stretched length ``ls`` and stretch rate ``ldot``; the stretch state used (and
@@ -275,7 +275,7 @@ def segment_axial(L, W, li, s, ls, ldot, l0):
     return T, L.seg_BA[s] * sdot / l0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def update_history(L, li, s, tmean):
     """Syrope history of segment ``s``: the mean tension, and the largest one with its working curve."""
     L.sy_T[s, 1] = tmean
@@ -285,7 +285,7 @@ def update_history(L, li, s, tmean):
 
 
 # ------------------------------------------------------------------------------------------ VIV
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def viv_before(L, W):
     """Keep the node accelerations of the previous evaluation (MoorDyn's rdd_old) for the VIV
     nodes, before the line kernels overwrite them."""
@@ -297,7 +297,7 @@ def viv_before(L, W):
                 W.acc_old[n, c] = W.acc[n, c]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def viv_after(L, E, W):
     """Cross-flow lift of the synchronisation model at every internal node of the VIV lines (spec
     3.11), added to the node forces and accelerations; the phase rates go to ``W.dphi``. The
@@ -384,7 +384,7 @@ def viv_after(L, E, W):
         L.xs_ctl[XC_TOLD] = t
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def line_state_rates(L, R, W, dy):
     """Write the rates of the line states (stretch of viscoelastic segments, VIV phases) into the
     derivative ``dy``. In the implicit scheme's trapezoidal mode and in static solves the states
@@ -400,7 +400,7 @@ def line_state_rates(L, R, W, dy):
             dy[xo + x] = W.dphi[n]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def load_line_states(y, L, R, W):
     """Copy the line states from the state ``y`` into ``W.seg_s`` and ``W.phi``."""
     xo = xs_offset(R)
@@ -414,7 +414,7 @@ def load_line_states(y, L, R, W):
             W.phi[n] = y[xo + x]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def store_line_states(y, L, R, W, h, history):
     """Write the stretch states of the last evaluation (``W.seg_s``: condensed in the trapezoidal
     or static modes) into the state ``y``, and their rates into ``xs_f0``. With ``h > 0`` (the end
@@ -451,7 +451,7 @@ def store_line_states(y, L, R, W, h, history):
                 update_history(L, li, s, tmean)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def start_line_states(y, L, R, h):
     """Remember the line states at the start of an implicit step of length ``h`` (``xs_s0``) and
     switch the stretch states to the trapezoidal condensation."""
@@ -463,14 +463,14 @@ def start_line_states(y, L, R, h):
     L.xs_ctl[XC_HIST] = 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def end_line_states(L):
     """Back to plain rate evaluations (after an implicit step or a static solve)."""
     L.xs_ctl[XC_MODE] = MODE_RATE
     L.xs_ctl[XC_HIST] = 1.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def keep_rates(dy, L, R):
     """Keep the line-state rates of the derivative ``dy`` (evaluated in the rate mode) in ``xs_f0``."""
     xo = xs_offset(R)

@@ -1,14 +1,8 @@
 """Small numerical building blocks shared by the kernels: bisection, 3-vectors, quaternions and
 rotation matrices, small dense solves, rigid offsets of 6x6 mass matrices.
 
-Reference counting: the kernels of the time loop (``rhs`` and everything it calls, the explicit
-schemes and their loop) are compiled with ``_nrt=False``, i.e. without numba's runtime for
-reference-counted memory. With it, every NamedTuple of arrays (``Work`` has 60) that reaches a
-function which calls another non-inlined function is reference counted array by array, two
-atomic updates per array and per call: measured on the OC3 chain (63 nodes), 10 us of a 13 us
-derivative evaluation. Without it the evaluation takes 2.9 us. The price: those kernels
-allocate nothing (scratch arrays live in ``Work`` and ``WaterKin``), and a kernel compiled
-without the runtime cannot call one that allocates.
+(compiled inline where small; how every kernel is compiled, and why without numba's reference
+counting, is in :mod:`moorline.core.jit`).
 """
 
 from __future__ import annotations
@@ -16,10 +10,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from .jit import kernel
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def bracket(a, lo, hi, v):
     """Index i in [lo, hi) with a[i] <= v < a[i+1], by bisection; ``a[lo] <= v < a[hi]`` is assumed
     (callers clamp first)."""
@@ -32,7 +27,7 @@ def bracket(a, lo, hi, v):
     return lo
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def unit3(x, y, z):
     """(x, y, z) / |(x, y, z)| and the norm; the zero vector stays zero."""
     n = math.sqrt(x * x + y * y + z * z)
@@ -41,7 +36,7 @@ def unit3(x, y, z):
     return 0.0, 0.0, 0.0, 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def quat_to_R(y, o, Rm):
     """Rotation matrix of the quaternion ``y[o:o+4]`` (normalised here) into ``Rm`` (3, 3)."""
     w = y[o]
@@ -67,7 +62,7 @@ def quat_to_R(y, o, Rm):
     Rm[2, 2] = 1.0 - 2.0 * (x * x + yy * yy)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def quat_rate(y, o, wx, wy, wz, dy, od):
     """dQ/dt = 0.5 (0, omega) (x) Q for the quaternion ``y[o:o+4]``, omega in global axes."""
     w = y[o]
@@ -80,7 +75,7 @@ def quat_rate(y, o, wx, wy, wz, dy, od):
     dy[od + 3] = 0.5 * (wz * w + wx * yy - wy * x)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def euler_R(roll, pitch, yaw, Rm):
     """Rm = Rx(roll) Ry(pitch) Rz(yaw) (MoorDyn's coupling and deck convention)."""
     cr = math.cos(roll)
@@ -100,7 +95,7 @@ def euler_R(roll, pitch, yaw, Rm):
     Rm[2, 2] = cr * cp
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def solve_dense(A, b, x, n, a):
     """Solve the n x n system A x = b (Gaussian elimination with partial pivoting) without
     changing A or b, in the scratch ``a`` (at least n x (n + 1)). Returns False (x = NaN) if A is
@@ -138,7 +133,7 @@ def solve_dense(A, b, x, n, a):
     return True
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def skew3(S, rx, ry, rz):
     """S a = r x a."""
     S[0, 0] = 0.0
@@ -152,14 +147,14 @@ def skew3(S, rx, ry, rz):
     S[2, 2] = 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def add_translated3(M6, M3, rx, ry, rz, S):
     """M6 += T^T [[M3, 0], [0, 0]] T for a point mass matrix M3 at offset r: the blocks
     [[M3, -M3 S], [S M3, -S M3 S]], S = S(r). ``S`` is (3, 3) scratch."""
     add_translated6(M6, M3, M3, M3, M3, 1, rx, ry, rz, S)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def add_translated6(Md, A, Bm, C, D, point_only, rx, ry, rz, S):
     """Md += T^T [[A, Bm], [C, D]] T, T = [[I, -S], [0, I]], S = S(r): a mass about a point offset
     by r moved to the parent's point. With ``point_only`` the blocks Bm, C, D are taken as zero
@@ -193,19 +188,19 @@ def add_translated6(Md, A, Bm, C, D, point_only, rx, ry, rz, S):
             Md[3 + i, 3 + j] += v
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def cross3(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def matvec3(Rm, x, y, z):
     """Rm (x, y, z) for a 3x3 matrix Rm."""
     return (Rm[0, 0] * x + Rm[0, 1] * y + Rm[0, 2] * z, Rm[1, 0] * x + Rm[1, 1] * y + Rm[1, 2] * z,
             Rm[2, 0] * x + Rm[2, 1] * y + Rm[2, 2] * z)
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def quat_mul(aw, ax, ay, az, b, ob, out, oo):
     """out[oo:oo+4] = (aw, ax, ay, az) (x) b[ob:ob+4], quaternions (w, x, y, z)."""
     bw = b[ob]
@@ -218,7 +213,7 @@ def quat_mul(aw, ax, ay, az, b, ob, out, oo):
     out[oo + 3] = aw * bz + ax * by - ay * bx + az * bw
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def lu_factor(M, o, n, piv):
     """In-place LU factors with partial pivoting of the n x n matrix in rows o..o+n-1, columns
     0..n-1 of M (the row swaps in piv[o:o+n]). Returns False if a pivot is zero."""
@@ -244,7 +239,7 @@ def lu_factor(M, o, n, piv):
     return True
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def lu_solve(M, o, n, piv, b):
     """Solve in place (b[0:n]) with the factors of :func:`lu_factor` in rows o..o+n-1 of M."""
     for c in range(n):

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from .features import FLOATING, LINE_STATES, RIGID, WATER, when
 from .floating import floating_loads, floating_motion
+from .jit import kernel
 from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
 from .linestates import XC_TIME, line_state_rates, load_line_states, viv_after, viv_before
@@ -32,7 +32,7 @@ from .rigid import (
 from .waterkin import WAVES_EXTERNAL, fluid_at, fluid_at_points
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def motion_piece(Mo, t):
     """Index of the trajectory piece holding time ``t`` (right-continuous at knots, clamped)."""
     tk = Mo.t
@@ -43,7 +43,7 @@ def motion_piece(Mo, t):
     return bracket(tk, 1, tk.size - 2, t)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def motion_eval(Mo, t, piece, x, v, a):
     """Evaluate the coupled trajectory ``Mo`` at time ``t`` into x, v, a, on trajectory piece
     ``piece`` (or, when negative, on the piece that holds ``t``). A time step never straddles a knot
@@ -61,7 +61,7 @@ def motion_eval(Mo, t, piece, x, v, a):
         a[j] = 2.0 * c2 + 6.0 * s * c3
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def set_kinematics(t, y, L, R, P, Mo, W, piece):
     """Bodies, rods, points and line nodes from the state ``y`` and the coupled trajectory at
     time ``t`` (spec 3.16, step 1)."""
@@ -93,13 +93,13 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
                 r[n, c] = y[o + c]
                 v[n, c] = y[uoff + o + c]
     if L.xs_s0.size > 0:
-        load_line_states(y, L, R, W)
+        when(W, LINE_STATES, load_line_states, (y, L, R, W))
     if R.body_kind.size > 0:
-        body_kinematics(y, R, W)
+        when(W, RIGID, body_kinematics, (y, R, W))
     if R.rod_kind.size > 0:
-        rod_kinematics(y, R, W)
-        zero_length_axes(R, L, W)
-        rod_nodes(R, W)
+        when(W, RIGID, rod_kinematics, (y, R, W))
+        when(W, RIGID, zero_length_axes, (R, L, W))
+        when(W, RIGID, rod_nodes, (R, W))
     for p in range(kind.size):
         k = kind[p]
         if k == P_FIXED:
@@ -119,7 +119,7 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
                 pr[p, c] = y[o + c]
                 pv[p, c] = y[uoff + o + c]
     if R.body_kind.size > 0:
-        body_point_kinematics(P, W)
+        when(W, RIGID, body_point_kinematics, (P, W))
     rodr = W.rodr
     rodv = W.rodv
     for li in range(nl):
@@ -139,7 +139,7 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
                     v[n, c] = rodv[k, e, c]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def set_water(t, K, W):
     """Water velocity and acceleration, surface elevation (and dynamic pressure at rod nodes) at
     every line node, rod node, point and body reference point at time ``t`` (spec 4). External
@@ -185,7 +185,7 @@ def set_water(t, K, W):
         off += m
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def point_loads(P, E, W, cd_scale):
     """Net force and mass matrix of every point (spec 3.13); accelerations of free points."""
     pU = W.pU
@@ -214,7 +214,7 @@ def point_loads(P, E, W, cd_scale):
             solve3(pM, p, pF, W.pa)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _any_viv(L):
     for li in range(L.viv.shape[0]):
         if L.viv[li, 0] > 0.0:
@@ -222,7 +222,7 @@ def _any_viv(L):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
@@ -242,7 +242,7 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     set_kinematics(t, y, L, R, P, Mo, W, piece)
     K = E.water
     if K.wave_mode != 0 or K.current_mode != 0:
-        set_water(t, K, W)
+        when(W, WATER, set_water, (t, K, W))
     rodF = W.rodF
     rodEM = W.rodEM
     rodMext = W.rodMext
@@ -277,10 +277,10 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     viv = L.node_xs.size > 0 and L.xs_s0.size > 0 and L.viv.size > 0 and _any_viv(L)
     if viv:
         L.xs_ctl[XC_TIME] = t
-        viv_before(L, W)
+        when(W, LINE_STATES, viv_before, (L, W))
     line_forces(L, E, B, W, cd_scale)
     if viv:
-        viv_after(L, E, W)
+        when(W, LINE_STATES, viv_after, (L, E, W))
     end_moment = W.end_moment
     for li in range(nl):
         for j in range(2):
@@ -317,12 +317,12 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
             dy[o + 1] = pa[p, 1]
             dy[o + 2] = pa[p, 2]
     if L.xs_s0.size > 0:
-        line_state_rates(L, R, W, dy)
+        when(W, LINE_STATES, line_state_rates, (L, R, W, dy))
     if nrod > 0 or R.body_kind.size > 0:
         if nrod > 0:
-            rod_loads(R, E, B, W, cd_scale)
-        rigid_dynamics(y, dy, R, P, E, W)
+            when(W, RIGID, rod_loads, (R, E, B, W, cd_scale))
+        when(W, RIGID, rigid_dynamics, (y, dy, R, P, E, W))
         if F.body.size > 0:
-            floating_loads(t, y, dy, R, E, W, F, FW)
-            floating_motion(R, W, F, FW)
-        body_motion(y, dy, R, W, F)
+            when(W, FLOATING, floating_loads, (t, y, dy, R, E, W, F, FW))
+            when(W, FLOATING, floating_motion, (R, W, F, FW))
+        when(W, RIGID, body_motion, (y, dy, R, W, F))

@@ -24,8 +24,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from .jit import kernel
 from .linestates import xs_offset
 from .rhs import rhs
 
@@ -36,13 +35,13 @@ SP_BETA = 7
 SP_LINES = 8  # LEuler: line update intervals, then times since the last update
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def relax_factor(m, M, c0, c1):
     """MoorDyn's relaxation of iteration ``m`` of ``M``."""
     return c0 * (1.0 - 1.0 / M) + c1 * (1.0 - 0.5 * (math.tanh(4.0 * ((m + 1.0) / M - 0.5)) + 1.0))
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     f_old = S[3]
     f = S[0]
@@ -56,7 +55,7 @@ def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
         f_old[i] = f[i]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     # the past derivatives live in S[1..3] (newest first), the new one in S[4]: S[0] is the time
     # loop's scratch for its final evaluation
@@ -88,7 +87,7 @@ def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     sp[SP_STEPS] = min(n + 1, order - 1)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _copy_line_rows(src, dst, li, L, R):
     """Copy the derivative rows of line ``li`` (internal nodes, line states) from ``src`` to ``dst``."""
     n3 = R.dims[0]
@@ -109,7 +108,7 @@ def _copy_line_rows(src, dst, li, L, R):
             dst[xo + x] = src[xo + x]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """Local-time-step Euler: a line whose interval has not elapsed is not evaluated; it reuses its
     last derivative and its last end loads."""
@@ -140,7 +139,7 @@ def leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
         y[i] += h * f[i]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _newmark_state(y0, d0, d1, out, R, mult, P, pa, pb, qa, qb):
     """out = y0 + mult * (v', a'): positions move by mult (v0 + P (pa a0 + pb a1)), velocities by
     mult (qa a0 + qb a1), first-order states by mult (qa x0' + qb x1'). ``d0``, ``d1``: the
@@ -183,7 +182,7 @@ def _newmark_state(y0, d0, d1, out, R, mult, P, pa, pb, qa, qb):
         out[i] = y0[i] + mult * (qa * d0[i] + qb * d1[i])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's ACA<M>: Newmark (gamma, beta) with M relaxed fixed-point iterations on the
     derivative at the end of the step; the last iterate's derivative is kept for the next step."""
@@ -215,7 +214,7 @@ def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
         d0[i] = d1[i]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's Wilson<M> (theta = sp[6]): M relaxed fixed-point iterations at t + theta h (which,
     as in MoorDyn, relax the start derivative itself), then the state brought back to t + h."""

@@ -26,8 +26,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from .jit import kernel
 from .numerics import bracket, unit3
 
 # seabed contact modes and friction models (mirrors of model.CONTACT_MODES / FRICTION_MODELS)
@@ -38,7 +37,7 @@ FRIC_DIRECTIONAL = 1
 FRIC_STICKSLIP = 2
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _locate(g, v):
     """Cell index i with g[i] <= v < g[i+1] (clamped) and the fraction within it."""
     n = g.size
@@ -50,7 +49,7 @@ def _locate(g, v):
     return lo, (v - g[lo]) / (g[lo + 1] - g[lo])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def seabed_at(gx, gy, gz, depth, x, y):
     """Seabed height and unit normal at (x, y) of the grid (gx, gy, gz) (flat at -depth when
     ``gx`` is empty).
@@ -85,7 +84,7 @@ def seabed_at(gx, gy, gz, depth, x, y):
     return zb, -dzdx * inv, -dzdy * inv, inv, outside
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _saturate(mu, cv, mc, N, vx, vy, vz):
     """MoorDyn's saturated-damping friction on a sliding velocity: mu cv |v| while that is below
     mc mu N, else mu N; opposite to v."""
@@ -97,7 +96,7 @@ def _saturate(mu, cv, mc, N, vx, vy, vz):
     return -ff * vx / vm, -ff * vy / vm, -ff * vz / vm
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
     """One direction of the stick-slip friction: spring extension ``dd`` [m] and velocity ``vv``
     [m/s] along it. Returns (force, new extension, new slip flag)."""
@@ -119,7 +118,7 @@ def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
     return f, dd, flag
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _ramp(pen, ramp):
     """Factor on the contact damping: 1 (MoorDyn), or the smoothstep u^2 (3 - 2 u), u = pen / ramp,
     while the penetration is below ``ramp`` [m], so the contact force starts from zero with a zero
@@ -130,7 +129,7 @@ def _ramp(pen, ramp):
     return 1.0
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _ramp_slope(pen, ramp):
     """d(_ramp)/d(pen) [1/m]."""
     if ramp > 0.0 and 0.0 < pen < ramp:
@@ -139,7 +138,7 @@ def _ramp_slope(pen, ramp):
     return 0.0
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _spring(pen, blend):
     """Penetration the contact spring acts on: ``pen`` (MoorDyn), or with a blend width
     ``blend`` [m] > 0 the C1 curve pen^2 / (2 blend) up to ``blend`` and pen - blend / 2 beyond,
@@ -152,7 +151,7 @@ def _spring(pen, blend):
     return pen
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _spring_slope(pen, blend):
     """d(_spring)/d(pen) [-]."""
     if blend > 0.0 and pen < blend:
@@ -168,7 +167,7 @@ def resting_penetration(pen_static: float, blend: float) -> float:
     return math.sqrt(2.0 * blend * pen_static)
 
 
-@njit(cache=True, error_model="numpy", inline="always", _nrt=False)
+@kernel(inline="always")
 def _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz):
     """Direction the contact force acts along (the seabed normal n, or z in MoorDyn-C's vertical
     mode), the penetration along it and the velocity along it."""
@@ -180,7 +179,7 @@ def _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz):
     return nx, ny, nz, (zb - rz) * nz, vx * nx + vy * ny + vz * nz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
     nx, ny, nz, pen, vn = _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz)
@@ -188,7 +187,7 @@ def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     return fn * nx, fn * ny, fn * nz, fn, nx, ny, nz, vx - vn * nx, vy - vn * ny, vz - vn * nz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def contact_slope(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     """Derivatives of the normal contact force fn of :func:`_contact` (friction left out) of a node
     below the seabed: ``(k, c, nx, ny, nz)`` with dF/dr = -k n n^T [N/m] and dF/dv = -c n n^T
@@ -199,7 +198,7 @@ def contact_slope(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     return k, c, nx, ny, nz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _plane_axis(qx, qy, qz, nx, ny, nz):
     """The line tangent projected on the seabed plane, normalised (MoorDyn-F splits along the
     unprojected tangent, which gives the friction a component normal to the seabed wherever the
@@ -209,7 +208,7 @@ def _plane_axis(qx, qy, qz, nx, ny, nz):
     return ux, uy, uz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def seabed_force(E, zb, nx, ny, nz, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     """Contact and saturated-damping friction (isotropic or directional) on a line node at
     (rx, ry, rz), below the local seabed height ``zb`` with unit normal n, moving at (vx, vy, vz)
@@ -227,7 +226,7 @@ def seabed_force(E, zb, nx, ny, nz, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     return bx + ax + tx, by + ay + ty, bz + az + tz
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def seabed_force_stickslip(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     """Contact and stick-slip friction on line node ``n`` (arguments as :func:`seabed_force`, plus
     the stick-slip state (anchor, slip, ctl) of :class:`~moorline.core.layout.Seabed`). The

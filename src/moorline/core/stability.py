@@ -89,11 +89,13 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
             if zeta > 1.0:
                 modes.append(Mode(name, f"over-damped internal damping (zeta {zeta:.3g})",
                                   4.0 * BA / (lt.w * l0 * l0)))
-        touches = bool(on_seabed[li]) if on_seabed is not None else None
-        if touches is None:
+        # seabed modes for a line in contact (after the initial conditions) and for any line that
+        # can reach the seabed in motion: a stiff seabed met later blows up as surely
+        touches = bool(on_seabed[li]) if on_seabed is not None else False
+        if not touches:
             ends = [model.end_position(ln.end_a), model.end_position(ln.end_b)]
             touches = any(r[2] <= _seabed_height(model, E.depth, r) * (1.0 - 1e-5)
-                          for r in ends)
+                          for r in ends) or _can_reach_seabed(model, E.depth, ends, float(layout.line_L[li]))
         if touches:
             modes.append(Mode(name, "seabed contact damping", E.cBot * lt.d / lt.w))
             modes.append(Mode(name, "seabed contact stiffness", math.sqrt(E.kBot * lt.d / lt.w)))
@@ -137,6 +139,28 @@ def _viscoelastic_rates(model: Model, line, lt, BAs: float) -> tuple[float, floa
     BA = BAs * BAd / den if den > 0 else 0.0
     relax = abs(ea_d + ea_1) / den if den > 0 else math.inf
     return EA, BA, relax
+
+
+#: stretch allowed for when asking whether a line can reach the seabed
+_REACH_STRETCH = 1.05
+
+
+def _can_reach_seabed(model: Model, depth: float, ends, length: float) -> bool:
+    """Whether a line of unstretched ``length`` between ``ends`` (deck positions) can reach the
+    seabed: its lowest reachable point is the bottom of the ellipsoid of points whose distances to
+    the two ends sum to the (5 % stretched) length, compared with the highest seabed under its ends
+    and midpoint."""
+    a, b = np.asarray(ends[0], dtype=float), np.asarray(ends[1], dtype=float)
+    chord = float(np.linalg.norm(b - a))
+    half = 0.5 * _REACH_STRETCH * abs(length)
+    if half <= 0.5 * chord or chord == 0.0:
+        low = min(a[2], b[2]) - (half if chord == 0.0 else 0.0)
+    else:
+        uz = (b[2] - a[2]) / chord
+        minor2 = half * half - 0.25 * chord * chord
+        low = 0.5 * (a[2] + b[2]) - math.sqrt(half * half * uz * uz + minor2 * (1.0 - uz * uz))
+    zb = max(_seabed_height(model, depth, r) for r in (a, b, 0.5 * (a + b)))
+    return low <= zb
 
 
 def _seabed_height(model: Model, depth: float, r) -> float:

@@ -9,15 +9,18 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from .integrate import advance
 from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
+from .jit import kernel
 from .linestates import xs_offset
 from .rhs import rhs
 
+# -1 (evaluate the coupled trajectory on the piece that holds t), passed as np.int64(-1) in the
+# kernels: the literal -1 would make numba compile rhs once more for the type Literal[int](-1)
 
-@njit(cache=True, error_model="numpy")
+
+@kernel
 def _accel_norm_sum(dy, n3, n6):
     """Sum of the acceleration norms of the 3-DOF rows, plus |a| + |alpha| of each 6-DOF block."""
     uoff = 3 * n3 + 7 * n6
@@ -32,7 +35,7 @@ def _accel_norm_sum(dy, n3, n6):
     return s
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def _move_along(y, dy, n3, n6, h):
     """Pseudo-time move of the positions along the accelerations: q += h a for 3-DOF rows and
     block positions; block orientations turn by h alpha (quaternion renormalised)."""
@@ -62,7 +65,7 @@ def _move_along(y, dy, n3, n6, h):
         y[oq + 6] = nz / n
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E, B, Mo, W, F, FW, S):
     """MoorDyn's stationary initial-condition solver (spec 6.3): pseudo-time steps along the
     accelerations with all velocities held at zero (6-DOF objects also turn along their angular
@@ -100,7 +103,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
     next_check = dtIC
     it = 0
     while True:
-        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
+        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
         e = _accel_norm_sum(dy, n3, n6)
         if e0 < 0.0:
             e0 = e
@@ -108,7 +111,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
             b /= 1.01
             for i in range(uoff):
                 y[i] = 0.5 * (y[i] + qprev[i])
-            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
+            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
             e = _accel_norm_sum(dy, n3, n6)
         else:
             b *= 1.01
@@ -137,7 +140,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
             return 0, t, e / nrow, it
 
 
-@njit(cache=True, error_model="numpy")
+@kernel(inline="always")
 def _fairlead_tensions(L, W, out):
     for li in range(L.seg_ptr.size - 1):
         s = L.seg_ptr[li + 1] - 1
@@ -147,24 +150,29 @@ def _fairlead_tensions(L, W, out):
         out[li] = math.sqrt(fx * fx + fy * fy + fz * fz)
 
 
-@njit(cache=True, error_model="numpy")
-def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, F, FW, S, vmax):
+@kernel
+def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, R, P, E, B, Mo, W, F, FW, S, vmax, H):
     """MoorDyn's legacy initial-condition solver (spec 6.4): integrate with drag scaled by
     ``cd_scale`` until the end-B tension of every line changes by less than ``threshIC``
-    (relative) over ten samples ``dtIC/10`` apart.
+    (relative) over ten samples ``dtIC/10`` apart. ``H``: (11, n_lines) scratch (kernels
+    allocate nothing).
 
     Returns (converged, t, bad_row)."""
     nl = L.seg_ptr.size - 1
     nwin = 10
-    hist = np.zeros((nwin, nl))
-    ten = np.zeros(nl)
+    hist = H[:nwin]
+    ten = H[nwin]
+    for k in range(nwin):
+        for li in range(nl):
+            hist[k, li] = 0.0
     dtc = dtIC / 10.0
     t = 0.0
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
         # final_eval: the Work arrays then hold the loads of the state at t1
-        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax, True)
+        t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax,
+                               np.bool_(True))
         if bad >= 0:
             return False, t, bad
         _fairlead_tensions(L, W, ten)
@@ -187,7 +195,7 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
 
 
 # ---------------------------------------------------------------------------------------------- Newton statics
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
     """J = diag I - df/dx at the positions IW.y0 (zero velocities), factored. IW.f0 must hold the
     derivative at IW.y0. Returns the LU status."""
@@ -209,7 +217,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
             for i in range(y.size):
                 y[i] = IW.y0[i]
             displace(IW.y0, dq, y, n3, n6, 1.0)
-            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
+            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
             IW.stat[S_NRHS] += 1
             assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
     IW.stat[S_NJAC] += 1
@@ -218,13 +226,13 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
     return factor(A, IW)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel(inline="always")
 def _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6):
     """f at the positions of ``y`` with zero velocities into IW.f0; returns (max |acc|, L2 norm)."""
     uoff = 3 * n3 + 7 * n6
     for i in range(uoff, xs_offset(R)):  # the line states are kept (see stationary_solve)
         y[i] = 0.0
-    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
+    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
     IW.stat[S_NRHS] += 1
     big = 0.0
     s = 0.0
@@ -237,7 +245,7 @@ def _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6):
     return big, math.sqrt(s)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter):
     """Static equilibrium by pseudo-transient continuation of Newton's method: each iteration
     solves (I / tau^2 - df/dx) dx = f(x) at zero velocities, with tau^2 grown by the ratio of

@@ -521,14 +521,20 @@ def body_file_values(system, i: int) -> np.ndarray:
     return np.concatenate([b.position(), np.degrees(b.angles())])
 
 
-def write_body_out(path, times, values, write_units: bool = True) -> Path:
-    """Write a tab-separated per-body file (spec 2.5): ``Time x y z roll pitch yaw``."""
-    rows = ["Time\tx\ty\tz\troll\tpitch\tyaw\n"]
-    if write_units:
-        rows.append("(s)\t(m)\t(m)\t(m)\t(deg)\t(deg)\t(deg)\n")
+def _body_text(times, values, write_units: bool, header: bool = True) -> str:
+    rows = []
+    if header:
+        rows.append("Time\tx\ty\tz\troll\tpitch\tyaw\n")
+        if write_units:
+            rows.append("(s)\t(m)\t(m)\t(m)\t(deg)\t(deg)\t(deg)\n")
     for t, v in zip(np.asarray(times, dtype=float), np.asarray(values, dtype=float).reshape(-1, 6), strict=True):
         rows.append("\t".join([f"{t:.4f}"] + [f"{x:.7e}" for x in v]) + "\n")
-    _write_atomic(Path(path), "".join(rows))
+    return "".join(rows)
+
+
+def write_body_out(path, times, values, write_units: bool = True) -> Path:
+    """Write a tab-separated per-body file (spec 2.5): ``Time x y z roll pitch yaw``."""
+    _write_atomic(Path(path), _body_text(times, values, write_units))
     return Path(path)
 
 
@@ -538,7 +544,7 @@ TIME_WIDTH = 10
 VALUE_WIDTH = 20
 
 
-def _table_text(titles, units, times, values, write_units: bool, time_unit: str) -> str:
+def _table_text(titles, units, times, values, write_units: bool, time_unit: str, header: bool = True) -> str:
     times = np.asarray(times, dtype=float).ravel()
     values = np.asarray(values, dtype=float)
     ncol = len(titles)
@@ -549,9 +555,10 @@ def _table_text(titles, units, times, values, write_units: bool, time_unit: str)
                          "(one row per time, one column per title)")
     if len(units) != ncol:
         raise ValueError(f"{len(units)} units for {ncol} columns")
-    head = f"{'Time':>{TIME_WIDTH}}" + "".join(f"{t:>{VALUE_WIDTH}}" for t in titles) + "\n"
-    rows = [head]
-    if write_units:
+    rows = []
+    if header:
+        rows.append(f"{'Time':>{TIME_WIDTH}}" + "".join(f"{t:>{VALUE_WIDTH}}" for t in titles) + "\n")
+    if header and write_units:
         rows.append(f"{time_unit:>{TIME_WIDTH}}" + "".join(f"{u:>{VALUE_WIDTH}}" for u in units) + "\n")
     fmt = f"%{TIME_WIDTH}.4f" + f"%{VALUE_WIDTH}.7e" * ncol + "\n"
     table = np.column_stack([times, values])
@@ -750,6 +757,28 @@ class OutputRecorder:
         """Recorded per-line values of line ``i`` (0-based), shape (n_rows, n_columns)."""
         return np.array(self._lines[i]).reshape(len(self.times), len(self.line_columns[i][0]))
 
+    def texts(self, base: str, start: int = 0, stop: int | None = None, *, header: bool = True) -> dict[str, str]:
+        """Text of every ``.out`` file: ``{file name: text}`` with the title (and units) rows when
+        ``header``, then the recorded rows ``start:stop``; the main file ``<base>.out`` first,
+        then ``<base>_Line<n>.out``, ``<base>_Rod<n>.out`` and ``<base>_Body<n>.out``. Appending
+        the texts of consecutive row ranges (the first with its header) gives the whole file."""
+        rows = slice(start, stop)
+        times = self.times[rows]
+        n = len(times)
+        wu = self.write_units
+        out = {f"{base}.out": _table_text([c.name for c in self.channels], [c.unit for c in self.channels], times,
+                                          np.array(self._main[rows]).reshape(n, len(self.channels)), wu, "(s)",
+                                          header)}
+        for i, (titles, units) in self.line_columns.items():
+            out[f"{base}_Line{i + 1}.out"] = _table_text(titles, units, times, np.array(self._lines[i][rows]).reshape(
+                n, len(titles)), wu, "(s)", header)
+        for k, (titles, units) in self.rod_columns.items():
+            out[f"{base}_Rod{k + 1}.out"] = _table_text(titles, units, times, np.array(self._rods[k][rows]).reshape(
+                n, len(titles)), wu, "(s)", header)
+        for i, body_rows in self._bodies.items():
+            out[f"{base}_Body{i + 1}.out"] = _body_text(times, np.array(body_rows[rows]).reshape(n, 6), wu, header)
+        return out
+
     def write(self, out_dir, base: str) -> list[Path]:
         """Write ``<base>.out`` and every ``<base>_Line<n>.out`` into ``out_dir``.
 
@@ -763,18 +792,10 @@ class OutputRecorder:
         """
         out_dir = Path(out_dir)
         out_dir.mkdir(parents=True, exist_ok=True)
-        written = [write_main_out(out_dir / f"{base}.out", self.channels, self.times, self.main_values,
-                                  self.write_units)]
-        for i, (titles, units) in self.line_columns.items():
-            written.append(write_line_out(out_dir / f"{base}_Line{i + 1}.out", titles, units, self.times,
-                                          self.line_values(i), self.write_units))
-        n = len(self.times)
-        for k, (titles, units) in self.rod_columns.items():
-            written.append(write_table(out_dir / f"{base}_Rod{k + 1}.out", titles, units, self.times,
-                                       np.array(self._rods[k]).reshape(n, len(titles)), write_units=self.write_units))
-        for i, rows in self._bodies.items():
-            written.append(write_body_out(out_dir / f"{base}_Body{i + 1}.out", self.times, np.array(rows).reshape(n, 6),
-                                          self.write_units))
+        written = []
+        for name, text in self.texts(base).items():
+            _write_atomic(out_dir / name, text)
+            written.append(out_dir / name)
         log.info("wrote %d output file(s) to %s", len(written), out_dir)
         return written
 

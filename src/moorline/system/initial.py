@@ -268,7 +268,7 @@ def _solve_initial_conditions(sys: System) -> None:
     if opts.ICgenDynamic:
         ok, tic, bad = dynamic_relaxation(sys.y, sys.dtM, int(sys.scheme), sys.scheme_params, opts.dtIC,
                                           opts.TmaxIC, opts.threshIC, opts.CdScaleIC, L, R, P, E, B,
-                                          sys._motion, W, F, FW, sys._S, MAX_NODE_SPEED)
+                                          sys._motion, W, F, FW, sys._S, MAX_NODE_SPEED, np.zeros((11, len(sys.lines))))
         if bad >= 0:
             raise sys._instability(tic, int(bad), "during dynamic relaxation of the initial conditions")
         sys.ic_report.update(method="dynamic relaxation", converged=bool(ok), pseudo_time=float(tic))

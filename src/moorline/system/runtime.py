@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.features import features_of
 from ..core.floating import floating_restart
 from ..core.implicit import advance_implicit, build_implicit, new_implicit_work
 from ..core.integrate import RHO_INF, Scheme, advance, parse_scheme
@@ -36,6 +37,7 @@ from ..core.jacobian import (
     S_NSLOW,
     S_NSTEP,
 )
+from ..core.jit import compile_for
 from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
 from ..core.linestates import XC_DTM, XC_HIST
 from ..core.rhs import rhs
@@ -46,6 +48,7 @@ from ..core.waterkin import fluid_kinematics
 from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
+from . import checkpoint
 from .floating import JOINT_PULL, floating_arrays
 from .initial import (
     MAX_NODE_SPEED,
@@ -54,6 +57,7 @@ from .initial import (
     report_residual,
     solve_initial_conditions,
 )
+from .limits import check_model
 from .qsmooring import QuasiStaticMooring
 from .views import BodyView, LineView, PointView, RodView
 
@@ -99,6 +103,7 @@ class System:
             self._qsm = QuasiStaticMooring(model, seabed_friction=qs_friction)
             model = self._qsm.dynamic_model(model)
         self.model = model
+        check_model(model)
         self.layout = build_layout(model, floating=floating_arrays(model))
         if self._qsm is not None:
             self.layout.fl.ctl[1] = 1
@@ -123,6 +128,8 @@ class System:
         self.layout.lines.xs_ctl[XC_DTM] = self.dtM
         self.work = self.layout.new_work()
         self.fwork = self.layout.new_float_work()
+        self._features_key = None
+        self._kernel_arrays()  # the scheme's features join the layout's (see core.features)
         n = self.layout.n_state
         self.y = np.zeros(n)
         self._S = np.zeros((5, n))
@@ -194,9 +201,17 @@ class System:
 
     # ------------------------------------------------------------------ evaluation
     def _kernel_arrays(self):
-        """(lines, rods, points, env, seabed, work, floating, floating work): what every kernel
-        call takes."""
+        """(lines, rods, points, env, seabed, work, floating, floating work): what every kernel call
+        takes. ``work.features`` is brought up to date first when the layout or the scheme were
+        replaced since (the kernels are compiled without the code of the features they lack, see
+        :mod:`moorline.core.features`)."""
         lay = self.layout
+        key = (id(lay.lines), id(lay.rigid), id(lay.env), id(lay.env_ic), id(lay.fl), int(self.scheme))
+        if key != self._features_key:
+            f = features_of(lay, self.scheme)
+            if f != self.work.features:
+                self.work = self.work._replace(features=f)
+            self._features_key = key
         return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work, lay.fl, self.fwork
 
     def _evaluate(self, piece: int = -1) -> None:
@@ -272,7 +287,8 @@ class System:
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
-        floating_restart(0.0, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
+        if self.layout.fl.body.size:  # (not compiled for systems without floating bodies)
+            floating_restart(0.0, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         self._evaluate()
         # friction springs start relaxed at the initial position of every node
@@ -369,6 +385,23 @@ class System:
                 "backtracks": int(st[S_NBACK]), "slow_rebuilds": int(st[S_NSLOW]), "step": float(st[S_H]),
                 "colours": int(A.col_ptr.size - 1), "bandwidth": (int(A.band[0]), int(A.band[1]))}
 
+    def _advance_call(self, motion: Motion, t_end: float):
+        """(kernel, arguments) of the compiled time loop from now to ``t_end``."""
+        L, R, P, E, B, W, F, FW = self._kernel_arrays()
+        if self.scheme == Scheme.GENALPHA:
+            A, IW = self._implicit()
+            return advance_implicit, (self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion, W, F, FW,
+                                      MAX_NODE_SPEED, True)
+        return advance, (self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P, E, B,
+                         motion, W, F, FW, 1.0, self._S, MAX_NODE_SPEED, self.loads_at != "last_stage")
+
+    def warm_up(self, motion: Motion | None = None) -> None:
+        """Compile the time loop of this system now (or load it from numba's cache), without
+        integrating: the first ``step`` or ``advance_to`` then starts at full speed. ``init`` does
+        the same for the kernels of the initial conditions (by running them)."""
+        kernel, args = self._advance_call(self._motion if motion is None else motion, self.t)
+        compile_for(kernel, args)
+
     def _advance(self, motion: Motion, t_end: float) -> None:
         if self._qsm is None:
             self._advance_interval(motion, t_end)
@@ -387,12 +420,11 @@ class System:
 
     def _advance_interval(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
-        L, R, P, E, B, W, F, FW = self._kernel_arrays()
+        kernel, args = self._advance_call(motion, t_end)
+        W = self.work
         last_stage = self.loads_at == "last_stage"
         if self.scheme == Scheme.GENALPHA:
-            A, IW = self._implicit()
-            t, status, row, piece = advance_implicit(self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion,
-                                                     W, F, FW, MAX_NODE_SPEED, True)
+            t, status, row, piece = kernel(*args)
             self.t = t
             if status == 1:
                 raise self._instability(t, int(row), "")
@@ -400,8 +432,7 @@ class System:
                 raise self._newton_failure(t, int(row))
             self._check_grid()
             return
-        t, bad, _, piece = advance(self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P,
-                                   E, B, motion, W, F, FW, 1.0, self._S, MAX_NODE_SPEED, not last_stage)
+        t, bad, _, piece = kernel(*args)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
@@ -411,6 +442,19 @@ class System:
             self._evaluate(int(piece))
             for f, a in zip(self._STAGE_FIELDS, kept, strict=False):
                 getattr(W, f)[...] = a
+
+    # ------------------------------------------------------------------ save and restart
+    def save(self, path, *, meta: dict | None = None) -> Path:
+        """Write a checkpoint (MoorDyn's Save): everything a restart needs to continue bitwise
+        identically, see :mod:`moorline.system.checkpoint`. ``meta``: JSON-ready values kept with
+        it (returned by :meth:`load`)."""
+        return checkpoint.save(self, path, meta=meta)
+
+    def load(self, path) -> dict:
+        """Restore a checkpoint written by :meth:`save` (MoorDyn's Load) into this system, built
+        from the same model with the same scheme and time step; returns its ``meta``. Raises
+        :class:`moorline.errors.CheckpointError` for a checkpoint of another model."""
+        return checkpoint.load(self, path)
 
     # ------------------------------------------------------------------ state access
     def state_rows(self) -> list[tuple[str, int, int]]:
@@ -558,7 +602,8 @@ class System:
         self._restart()
 
     def _restart(self) -> None:
-        floating_restart(self.t, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
+        if self.layout.fl.body.size:  # (not compiled for systems without floating bodies)
+            floating_restart(self.t, self.y, self.layout.rigid, self.work, self.layout.fl, self.fwork)
         self._reset_scheme()
         if self.initialized:
             self._evaluate()

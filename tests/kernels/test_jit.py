@@ -1,0 +1,199 @@
+"""How the kernels are compiled (``moorline.core.jit``, ``moorline.core.features``).
+
+* Every kernel goes through the one decorator ``kernel``, the only place that names numba's
+  private ``_nrt`` option.
+* ``_nrt=False`` still does what it is there for: a kernel passing a NamedTuple of arrays to
+  another kernel compiles without reference-count updates. If a numba release drops the option,
+  ``moorline.core.jit`` fails at import; if it keeps the name but ignores it, this test fails
+  (the same function compiled with numba's defaults shows the updates, so the test can tell).
+* Features: a system's kernels are compiled without the code of features it lacks (``when``), and
+  with it when it has them.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import pytest
+from numba import njit, typeof
+
+import moorline
+from moorline.core import features as F
+from moorline.core.features import RIGID, when
+from moorline.core.jit import KERNEL_OPTIONS
+from moorline.core.lines import line_bending
+from moorline.core.rhs import set_water
+from moorline.core.rigid import rigid_dynamics, rod_loads
+from moorline.system import System
+
+CORE = Path(moorline.__file__).parent / "core"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_every_kernel_goes_through_the_one_decorator():
+    for p in sorted(CORE.glob("*.py")):
+        if p.name == "jit.py":
+            continue
+        text = p.read_text()
+        assert "_nrt" not in text, f"{p.name} names numba's private _nrt option: use core.jit.kernel"
+        assert not re.search(r"@(numba\.)?n?jit\b", text), f"{p.name} compiles a kernel without core.jit.kernel"
+
+
+class _Arrays(NamedTuple):
+    a: np.ndarray
+    b: np.ndarray
+
+
+def _callee(t, x):
+    return t.a[0] + t.b[0] + x
+
+
+def _caller(t, x):
+    return _callee_disp(t, x) + 1.0
+
+
+_callee_disp = None
+
+
+def _compiled_llvm(options) -> str:
+    global _callee_disp
+    _callee_disp = njit(**options)(_callee)
+    caller = njit(**options)(_caller)
+    t = _Arrays(np.ones(3), np.ones(3))
+    assert caller(t, 1.0) == 4.0
+    return "\n".join(caller.inspect_llvm().values())
+
+
+def test_nrt_false_removes_reference_counting():
+    without_cache = {**KERNEL_OPTIONS, "cache": False}
+    assert without_cache["_nrt"] is False
+    refcounts = re.compile(r"call\s+void\s+@NRT_(incref|decref)")
+    assert refcounts.search(_compiled_llvm({"cache": False})), \
+        "numba's default compilation no longer reference counts here: this test cannot tell the option's effect"
+    assert not refcounts.search(_compiled_llvm(without_cache)), \
+        "_nrt=False no longer removes the reference counting: numba changed its private option"
+
+
+@pytest.fixture
+def per_deck(monkeypatch):
+    """Kernels specialised to each deck's features, as outside the test suite (tests/conftest.py)."""
+    monkeypatch.delenv(F.ALL_FEATURES_ENV, raising=False)
+
+
+def test_features_of_the_examples(per_deck):
+    cat = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
+    assert cat.work.features == F.Features()
+    cable = System.from_file(EXAMPLES / "wec_cable" / "wec_cable.dat")
+    assert cable.work.features == F.Features.of(F.RIGID, F.BENDING)
+    slope = System.from_file(EXAMPLES / "slope_friction" / "slope_chain.dat")
+    assert slope.work.features == F.Features.of(F.STICKSLIP)
+    fixed_point = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat", scheme="BEuler3")
+    assert fixed_point.work.features == F.Features.of(F.FIXED_POINT)
+    from moorline.model.water import Waves
+
+    wavy = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
+    wavy.model.env.waves = Waves.regular(2.0, 8.0)
+    assert System(wavy.model).work.features == F.Features.of(F.WATER)
+
+
+def test_a_system_without_rods_waves_or_bending_does_not_compile_their_code(per_deck):
+    s = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
+    s.init(solve_ic=False)
+    s.step(s.deck_coupled_positions(), np.zeros(s.n_coupled_dof), 0.0, 0.01)
+    W = typeof(s.work)
+    for kernel in (rod_loads, rigid_dynamics, set_water, line_bending):
+        assert not any(W in sig for sig in kernel.signatures), f"{kernel.__name__} compiled for {W}"
+
+
+class _Work(NamedTuple):
+    features: F.Features
+    x: np.ndarray
+
+
+def _bump(x):
+    x[0] += 1.0
+
+
+def _gated(W):
+    when(W, RIGID, _bump_disp, (W.x,))  # (a module attribute F.RIGID would not be a literal)
+    return W.x[0]
+
+
+_bump_disp = njit(cache=False)(_bump)
+
+
+def test_when_calls_only_with_the_feature():
+    gated = njit(**{**KERNEL_OPTIONS, "cache": False})(_gated)
+    assert gated(_Work(F.Features(), np.zeros(1))) == 0.0
+    assert not _bump_disp.signatures, "the callee was compiled for a system without the feature"
+    assert gated(_Work(F.Features.of(F.RIGID), np.zeros(1))) == 1.0
+
+
+def test_stale_cache_logic_finds_numbas_cache_folder(tmp_path):
+    """With NUMBA_CACHE_DIR set, numba keeps the kernels' cache in the folder core/__init__ drops
+    when the kernel sources change (checked by compiling one kernel in a fresh process)."""
+    code = ("from moorline.core import kernel_cache_dirs\nfrom moorline.core.integrate import _axpy\n"
+            "import numpy as np\n_axpy(np.zeros(2), np.ones(2), 1.0, np.ones(2))\nprint(kernel_cache_dirs()[-1])")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    folder = Path(out.stdout.strip().splitlines()[-1])
+    assert folder.parent == tmp_path
+    assert list(folder.glob("integrate._axpy-*.nbi")), f"numba did not cache _axpy in {folder}"
+    assert (folder / "kernel-sources.sha256").is_file()
+
+
+@pytest.mark.parametrize("deck, scheme", [
+    ("catenary_3line/catenary_3line.dat", None),
+    pytest.param("catenary_3line/catenary_3line.dat", "BEuler3", marks=pytest.mark.slow),
+    pytest.param("wec_cable/wec_cable.dat", None, marks=pytest.mark.slow),
+], ids=["RK2", "BEuler3", "cable"])
+def test_per_deck_and_all_feature_kernels_give_identical_results(monkeypatch, deck, scheme):
+    """The kernels compiled for a deck's own features and those compiled with every feature (the
+    test suite's) compute bit for bit the same: a feature only adds code the deck never reaches."""
+    runs = []
+    for value in ("0", "1"):
+        monkeypatch.setenv(F.ALL_FEATURES_ENV, value)
+        s = System.from_file(EXAMPLES / deck, **({"scheme": scheme} if scheme else {}))
+        s.init(solve_ic=False)
+        x = s.deck_coupled_positions()
+        for k in range(5):
+            s.step(x + 0.01 * k, np.full(s.n_coupled_dof, 0.1), 0.02 * k, 0.02)
+        runs.append((s.work.features, s.y.copy(), s.work.F.copy()))
+    assert runs[0][0] != runs[1][0]
+    assert np.array_equal(runs[0][1], runs[1][1]) and np.array_equal(runs[0][2], runs[1][2])
+
+
+def test_work_with_features_dispatches_fast():
+    """numba's dispatcher types the arguments of every call; Work must stay on its fast path (a
+    Features class of its own once cost 1 ms per call of the time loop, on a coupling step of a few
+    microseconds). Measured against a call with the same arrays and no features: within 3x."""
+    import time
+
+    s = System.from_file(EXAMPLES / "catenary_3line" / "catenary_3line.dat")
+    s.init(solve_ic=False)
+    W = s.work
+    plain = tuple(getattr(W, f) for f in W._fields if f != "features")
+    x = s.y[:1]
+
+    def per_call(arg) -> float:
+        _first_row(x, arg)
+        best = float("inf")
+        for _ in range(5):
+            t0 = time.perf_counter()
+            for _ in range(2000):
+                _first_row(x, arg)
+            best = min(best, (time.perf_counter() - t0) / 2000)
+        return best
+
+    assert per_call(W) < 3.0 * per_call(plain) + 2e-6
+
+
+@njit(cache=False)
+def _first_row(x, w):
+    return x[0]
