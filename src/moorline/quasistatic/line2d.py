@@ -8,7 +8,10 @@ than their "L" shape, warm starts and the analytic derivatives of both end force
 Upright frame
 -------------
 The line is solved in the frame whose origin is its **lower** end; the upper end lies at horizontal
-distance ``X >= 0`` [m] and height ``Z >= 0`` [m]. ``H`` [N] is the horizontal tension at the upper
+distance ``X >= 0`` [m] and height ``Z >= 0`` [m]. One exception: a line whose seabed end is the higher
+one, on a seabed descending from it, is solved with the origin at its seabed end and ``Z < 0`` (the other
+end lower, but above the seabed plane, ``Z >= X t``), so that it can lie down the slope before lifting off;
+"lower end" below then means the origin end. ``H`` [N] is the horizontal tension at the upper
 end, ``V`` [N] its vertical tension: the line pulls the upper end with ``(-H, -V)`` (towards the lower
 end horizontally, downwards when ``V > 0``) and the lower end with ``(+HL, +VL)``. Without friction
 ``HL = H``; on a suspended line ``VL = V - W L``.
@@ -34,7 +37,9 @@ Special shapes, solved in closed form:
 
 * a line at least as long as its "L" shape (along the seabed to below the upper end, then hanging
   straight down to it) lies slack: ``H = 0``, ``V = W Lh`` with ``Lh`` the hanging length; the rest lies
-  bunched on the seabed (no error: "a line longer than possible");
+  bunched on the seabed (no error: "a line longer than possible"). On a seabed descending from the origin
+  end more steeply than friction holds (``k < 0``), the rest lies bunched at the foot below the upper end and
+  the grounded part between it and the origin end pulls that end down the slope with ``-k X sqrt(1 + t^2)``;
 * the upper end on the seabed (``Z = X t``): a taut grounded line, tension from Hooke's law with the
   friction and slope gradient (a slack one when ``L >= X / cos alpha``);
 * a vertical line (``X = 0``) and a weightless line (``W = 0``, straight; slack: no force).
@@ -358,6 +363,22 @@ def upright_line(X, Z, L, EA, W, contact, t, CB, H0, V0, out):
             out[O_H] = out[O_HL] = out[O_VL] = out[O_KTU] = out[O_KTL] = 0.0
             out[O_V] = W * Lh
             out[O_LB] = L - Lh
+            k = W * (sn + CB * c)
+            if k < 0.0 and X > 0.0:
+                # a seabed descending from the origin end faster than friction holds the line: the bunched rest
+                # slides to the foot below the upper end and the grounded part, Lflat long (its stretch is
+                # taken up by the bunch), pulls the origin end down the slope with TA = -k Lflat
+                c3 = c * c * c
+                k_t = W * c3 * (1.0 - CB * t)
+                TA = -k * Lflat
+                TA_X = -k * st
+                TA_t = -k_t * Lflat - k * X * t * c
+                out[O_HL] = TA * c
+                out[O_VL] = TA * sn
+                out[O_KTL] = TA * c / X
+                _set_derivs(out, 0.0, 0.0, 0.0, -t * dVdh, dVdh, -X * dVdh, c * TA_X, 0.0, c * TA_t - TA * t * c3,
+                            sn * TA_X, 0.0, sn * TA_t + TA * c3)
+                return QS_OK, 0
             _set_derivs(out, 0.0, 0.0, 0.0, -t * dVdh, dVdh, -X * dVdh, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             return QS_OK, 0
         if h <= _ON_BED * size:  # upper end on the seabed, taut along it
@@ -511,12 +532,13 @@ def line_profile_upright(X, Z, L, EA, W, contact, t, CB, H, V, s, px, pz, pT):
         if H <= 0.0:  # slack "L": on the seabed to below the upper end, then straight up
             Ls = V / W
             LB = L - Ls
+            k = W * (sn + CB * c)
             for i in range(n):
                 if s[i] <= LB:
                     f = min(s[i] / LB, 1.0) if LB > 0.0 else 0.0
                     px[i] = X * f
                     pz[i] = X * t * f
-                    pT[i] = 0.0
+                    pT[i] = -k * (X - px[i]) * st if k < 0.0 else 0.0  # down a slope friction cannot hold
                 else:
                     ds = s[i] - LB
                     px[i] = X

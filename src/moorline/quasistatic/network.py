@@ -150,6 +150,10 @@ def line3d(rA, rB, lf, li, o2, lw):
         slope_o = (lf[LF_GX] * d0 + lf[LF_GY] * d1) * sb / Xo if Xo > 0.0 else 0.0
         if sb * d2 - Xo * slope_o < -1e-9 * (lf[LF_L] + Xo + abs(d2)):
             return QS_BELOW_SEABED
+        # the seabed then descends from the seabed end towards the other end, and the line may lie down the
+        # slope before it lifts off: solve it in the seabed end's frame (the other end below it, above the plane)
+        lo_a = bed == 1
+        contact = True
     sg = 1.0 if lo_a else -1.0
     u0 = sg * d0
     u1 = sg * d1

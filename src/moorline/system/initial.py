@@ -256,7 +256,15 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
     st[S_H] = h
     seg = sys.layout.lines.seg_ptr
     ends = np.concatenate([seg[:-1], seg[1:] - 1]) if seg.size > 1 else np.zeros(0, dtype=np.int64)
+    # the rigid blocks (free bodies and rods: position and quaternion) must settle too: a floating body
+    # pulled far from its deck pose creeps towards equilibrium while the line tensions barely change
+    blocks = [sys.layout.block_slices(j)[0] for j in range(sys.layout.n_blocks)]
+
+    def rigid_state():
+        return np.concatenate([sys.y[q] for q in blocks]) if blocks else np.zeros(0)
+
     prev = None
+    prev_rigid = None
     t = 0.0
     try:
         while t < opts.TmaxIC:
@@ -266,9 +274,12 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
             if status != 0:
                 break
             ten = np.linalg.norm(W.T[ends], axis=1) if ends.size else np.zeros(0)
-            if prev is not None and np.all(np.abs(ten - prev) <= opts.threshIC * np.maximum(np.abs(ten), 1.0)):
+            rig = rigid_state()
+            if prev is not None and np.all(np.abs(ten - prev) <= opts.threshIC * np.maximum(np.abs(ten), 1.0)) \
+                    and np.all(np.abs(rig - prev_rigid) <= opts.threshIC):
                 break
             prev = ten
+            prev_rigid = rig
     finally:
         A.par[:] = saved
     uoff = sys.layout.u_offset
