@@ -16,7 +16,8 @@ when the run succeeds, each atomically.
 (section stress around the cable, rainflow, S-N damage; see :mod:`moorline.post`).
 
 Exit codes: 0 success, 2 bad input (deck, motion file, study file, arguments), 3 the simulation
-or some sweep cases failed.
+or some sweep cases failed, or the initial conditions did not converge (``run`` and ``statics``;
+``--accept-unconverged-ic`` goes on).
 """
 
 from __future__ import annotations
@@ -162,6 +163,7 @@ def cmd_run(args) -> int:
 
     def record(sys_):
         if not recorders:
+            _check_ic(sys_, args)
             recorders.append(OutputRecorder(sys_))
         recorders[0].record()
 
@@ -206,6 +208,18 @@ def cmd_run(args) -> int:
     return 0
 
 
+def _check_ic(system, args) -> None:
+    """Stop (exit code 3) when the initial conditions did not converge, unless
+    ``--accept-unconverged-ic`` says to go on."""
+    ic = system.ic_report
+    if ic.get("converged", True) or getattr(args, "accept_unconverged_ic", False):
+        return
+    res = ic.get("residual", float("nan"))
+    raise SimulationError(f"the initial conditions did not converge ({ic.get('method', 'catenary start')}: residual "
+                          f"acceleration {res:.3g} m/s^2 at {ic.get('residual_at', '?')}); raise TmaxIC or fix the "
+                          "model, or pass --accept-unconverged-ic to run from this state", time=0.0)
+
+
 def cmd_statics(args) -> int:
     from .results import Recorder, write_netcdf
 
@@ -218,7 +232,8 @@ def cmd_statics(args) -> int:
     system.init(solve_ic=True)
     ic = system.ic_report
     print(f"initial conditions: {ic.get('method', 'catenary start only')}, "
-          f"{'converged' if ic.get('converged') else 'stalled' if ic.get('stalled') else 'not converged'}")
+          f"{'converged' if ic.get('converged') else 'stalled' if ic.get('stalled') else 'NOT converged'}, "
+          f"residual {ic.get('residual', 0.0):.3g} m/s^2")
     for ln in system.lines:
         r = ln.node_positions()
         print(f"  line {ln.number}: fairlead tension {ln.fairlead_tension() / 1e3:.2f} kN, anchor tension "
@@ -232,6 +247,10 @@ def cmd_statics(args) -> int:
         rec.record()
         path = write_netcdf(rec.to_dataset(), Path(args.out) / f"{Path(args.deck).stem}_statics.nc")
         print(f"  wrote {path}")
+    if not ic.get("converged", True) and not args.accept_unconverged_ic:
+        print("moorline: the initial conditions did not converge (pass --accept-unconverged-ic to exit 0)",
+              file=sys.stderr)
+        return 3
     return 0
 
 
@@ -407,7 +426,8 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("deck", help="MoorDyn v2 input file, or a system file (.yaml) naming one")
         p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
         p.add_argument("--dtM", type=float, help="override the internal time step [s]")
-        p.add_argument("--scheme", help="override the time scheme (Euler, RK2, RK4, BEuler<M>, Midpoint<M>)")
+        p.add_argument("--scheme", help="override the time scheme (Euler, LEuler, Heun, RK2, RK4, AB2-4, BEuler<M>, "
+                       "Midpoint<M>, ACA<M>, Wilson<M>, GenAlpha[rho_inf])")
 
     p = sub.add_parser("run", help="simulate a deck with an imposed coupled motion")
     common(p)
@@ -426,6 +446,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="lines as dynamic lumped masses (default) or quasi-static catenaries re-solved every step "
                    "(floating bodies only)")
     p.add_argument("--no-ic", action="store_true", help="start from the catenary profile (no IC solve)")
+    p.add_argument("--accept-unconverged-ic", action="store_true",
+                   help="run even when the initial conditions did not converge (default: stop, exit code 3)")
     p.add_argument("--no-nodes", action="store_true", help="keep node data out of the NetCDF file")
     p.add_argument("--quiet-progress", action="store_true", help="no progress bar (default: shown on a terminal)")
     p.set_defaults(func=cmd_run)
@@ -440,6 +462,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "deck pose: x,y,z,rx,ry,rz (m, deg)")
     p.add_argument("--friction", help="with --quasi-static: seabed friction coefficient CB of the lines (default 0), "
                    "or 'deck' for the deck's axial friction coefficient")
+    p.add_argument("--accept-unconverged-ic", action="store_true",
+                   help="exit 0 even when the initial conditions did not converge (default: exit code 3)")
     p.set_defaults(func=cmd_statics)
 
     p = sub.add_parser("check", help="read a deck and report its size and time-step stability")

@@ -211,6 +211,11 @@ class Recorder:
             "options": json.dumps(opts, default=str),
             "environment": json.dumps(_environment_summary(s.model.env)),
             "ic": json.dumps(s.ic_report, default=str),
+            # the initial state: how it was found, whether it is at rest, and its largest residual
+            # acceleration of a free DOF at zero velocity [m/s^2] (-1: not measured, no IC solve)
+            "ic_method": str(s.ic_report.get("method", "catenary start")),
+            "ic_converged": int(bool(s.ic_report.get("converged", True))),
+            "ic_residual": float(s.ic_report.get("residual", -1.0)),
         }
         return xr.Dataset(dv, coords=coords, attrs=attrs)
 

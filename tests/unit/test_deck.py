@@ -199,6 +199,24 @@ def test_body_columns_cg_inertia_cda_lists():
     assert m.n_coupled_dof == 6 + 3 * len(m.coupled_points)
 
 
+def test_zero_length_rod_ends_at_a_as_in_moordyn(caplog):
+    """A rod with NumSegs 0 is zero-length whatever its end B says (MoorDyn puts both ends at end
+    A): length 0, both deck-pose ends at A, and a warning naming the file and line."""
+    rods = ("---- ROD TYPES ----\nName Diam Mass Cd Ca CdEnd CaEnd\n(-) (m) (kg/m) (-) (-) (-) (-)\n"
+            "joint 0.1 0 0 0 0 0\n---- RODS ----\nID Type Att Xa Ya Za Xb Yb Zb N Out\n"
+            "(#) (-) (-) (m) (m) (m) (m) (m) (m) (-) (-)\n1 joint fixed 0 0 -10 0 0 -11 0 -\n"
+            "2 joint free 5 0 -10 5 0 -10 0 -\n")
+    deck = SMALL.replace("------------------------ POINTS", rods + "------------------------ POINTS", 1)
+    with caplog.at_level(logging.WARNING, logger="moorline.io"):
+        m = read_deck_text(deck, path="z.txt")
+    assert m.rods[0].length == 0.0 and m.rods[1].length == 0.0
+    a, b = m.rod_ends(0)
+    np.testing.assert_array_equal(a, (0, 0, -10))
+    np.testing.assert_array_equal(b, (0, 0, -10))
+    assert "z.txt" in caplog.text and "rod 1 has NumSegs 0" in caplog.text
+    assert "rod 2" not in caplog.text  # its ends already coincide
+
+
 def test_fixed_rod_and_clamped_line():
     m = read_deck(conformance_deck("beam_cantilever/BeamCantilevered.txt"))
     assert len(m.rods) == 1 and m.rods[0].kind.name == "FIXED" and m.rods[0].N == 1

@@ -227,7 +227,11 @@ def test_cli_run_with_a_native_sea_state(tmp_path, capsys):
     for tag, extra in (("still", []), ("sea", ["--waves", "jonswap:Hs=3,Tp=9,heading=180,seed=2,n=40",
                                               "--current", "1.0@180"])):
         out = tmp_path / tag
-        code = cli_main(["run", str(EXAMPLE), "--duration", "2", "--out", str(out), "--quiet-progress", *extra])
+        # a 1 m/s current across the chain lying on the (frictionless) seabed: the initial
+        # conditions (found with the current, spec 6.1) do not reach rest within TmaxIC, which this
+        # test is not about
+        code = cli_main(["run", str(EXAMPLE), "--duration", "2", "--out", str(out), "--quiet-progress",
+                         "--accept-unconverged-ic", *extra])
         assert code == 0
         runs[tag] = xr.open_dataset(out / "catenary_3line.nc", engine="h5netcdf")
     env = json.loads(runs["sea"].attrs["environment"])

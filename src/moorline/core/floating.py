@@ -728,7 +728,7 @@ def floating_restart(t, y, R, W, F, FW):
     if F.body.size == 0:
         return
     zoff = 6 * R.dims[0] + 13 * R.dims[1]
-    for i in range(zoff, y.size):
+    for i in range(zoff, zoff + R.dims[2]):  # the line states after them are not radiation memory
         y[i] = 0.0
     fw = FW
     if F.jt_child.size > 0:

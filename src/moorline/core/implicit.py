@@ -77,6 +77,7 @@ from .jacobian import (
     step_jacobian,
 )
 from .layout import Layout
+from .linestates import MODE_RATE, XC_MODE, end_line_states, keep_rates, start_line_states, store_line_states
 from .rhs import motion_eval, motion_piece, rhs
 
 #: the Jacobian is rebuilt when the contraction of the Newton increments is at least THETA_MAX, or
@@ -242,6 +243,8 @@ def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit):
     IW.stat[S_NRHS] += 1
     for i in range(IW.fs.size):
         IW.fs[i] = IW.f1[uoff + i]
+    if L.xs_f0.size > 0:
+        keep_rates(IW.f1, L, R)
     for j in range(W.xc.size):
         IW.ck[0, j] = W.xc[j]
         IW.ck[1, j] = W.vc[j]
@@ -299,6 +302,11 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     w = par[13] * h / hp if hp > 0.0 else 0.0
     for i in range(nd):
         IW.a1[i] = IW.a0[i] + w * (IW.a0[i] - IW.ap[i])
+    # viscoelastic stretch states are condensed by the trapezoidal rule inside the step map (when
+    # a static solve has them condensed at rest, as during implicit relaxation, they stay so)
+    nx = L.xs_s0.size if L.xs_ctl[XC_MODE] == MODE_RATE else 0
+    if nx > 0:
+        start_line_states(y, L, R, h)
     hj = IW.stat[S_HJ]
     rebuild = hj <= 0.0 or abs(h - hj) > 1e-9 * h
     # increment size (in acceleration) that meets both tolerances
@@ -366,6 +374,13 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
             conv = theta < 1.0 and theta * big <= (1.0 - theta) * tol
         if conv or big <= 1e-3 * tol:
             newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
+            if nx > 0:
+                # the line states at the end of the step: one evaluation there (condensed stretch,
+                # VIV phase rates), then the Syrope history
+                rhs(t + h, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
+                IW.stat[S_NRHS] += 1
+                store_line_states(y, L, R, W, h, True)
+                end_line_states(L)
             # the derivative at the end of the step as the scheme's equation gives it (the last
             # evaluation was one increment earlier); af <= 1/2
             am = par[0]
@@ -407,6 +422,8 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     IW.stat[S_EASY] = 0
     for i in range(n):
         y[i] = IW.y0[i]
+    if nx > 0:
+        end_line_states(L)
     return 1
 
 

@@ -17,6 +17,7 @@ from numba import njit
 
 from .floating import floating_after_step
 from .rhs import motion_piece, rhs
+from .schemes import SP_BETA, SP_GAMMA, SP_LINES, SP_ORDER, ab_step, heun_step, leuler_step, newmark_step, wilson_step
 
 log = logging.getLogger("moorline.core")
 
@@ -27,16 +28,21 @@ class Scheme(IntEnum):
     RK4 = 2
     IMPLICIT = 3  # MoorDyn's BEuler<M> / Midpoint<M>: M relaxed fixed-point iterations
     GENALPHA = 4  # generalized-alpha with Newton iterations (core.implicit): no stability limit
+    HEUN = 5  # MoorDyn's Heun (core.schemes)
+    AB = 6  # Adams-Bashforth 2-4 (and MoorDyn's LAB2-4, the same in MoorDyn-C)
+    LEULER = 7  # MoorDyn's local-time-step Euler
+    NEWMARK = 8  # MoorDyn's ACA<M>: Newmark average acceleration, M fixed-point iterations
+    WILSON = 9  # MoorDyn's Wilson<M>: Wilson-theta, M fixed-point iterations
 
 
 #: largest stable omega*dt of the highest axial segment mode for damping ratio ~0.5-1
 #: (spec 5.4, linear analysis of a taut chain); used by the time-step report. The relaxed
 #: fixed-point iterations of the "implicit" schemes are explicit in effect: RK2's value is used.
+#: Heun and Adams-Bashforth are taken as RK2 (second order, one evaluation of the same kind of
+#: extrapolation), local Euler as Euler.
 STABLE_OMEGA_DT = {Scheme.EULER: 1.0, Scheme.RK2: 2.0, Scheme.RK4: 2.6, Scheme.IMPLICIT: 2.0,
-                   Scheme.GENALPHA: math.inf}
-
-_MOORDYN_NAMES = ("LEULER", "HEUN", "AB2", "AB3", "AB4", "LAB2", "LAB3", "LAB4")
-_MOORDYN_PREFIXES = ("ACA", "WILSON")
+                   Scheme.GENALPHA: math.inf, Scheme.HEUN: 2.0, Scheme.AB: 1.0, Scheme.LEULER: 1.0,
+                   Scheme.NEWMARK: 2.0, Scheme.WILSON: 2.0}
 
 
 #: default spectral radius at infinite frequency: 0 (asymptotic annihilation) damps the
@@ -64,23 +70,50 @@ def parse_rho(text: str) -> float:
 def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
     """Map a MoorDyn ``tScheme`` name to a :class:`Scheme`, its parameters and a label.
 
-    Euler, RK2, RK4, and MoorDyn's ``BEuler<M>`` and ``Midpoint<M>`` (M fixed-point iterations,
-    evaluated at t + c dt with c = 1 or 1/2, relaxed as MoorDyn does) are implemented, and
-    moorline's truly implicit ``GenAlpha[rho_inf]`` (generalized-alpha with Newton iterations,
-    :mod:`moorline.core.implicit`; ``params[0]`` = rho_inf, default 0). Other MoorDyn
-    names, and unknown names, fall back to RK2 as MoorDyn does for unknown names, with a warning.
+    Every MoorDyn-C v2.7 scheme is implemented: Euler, LEuler, Heun, RK2, RK4, AB2-AB4 (LAB2-LAB4
+    are the same in MoorDyn-C), ``BEuler<M>`` and ``Midpoint<M>`` (M fixed-point iterations,
+    evaluated at t + c dt with c = 1 or 1/2, relaxed as MoorDyn does), ``ACA<M>`` and
+    ``Wilson<M>`` (:mod:`moorline.core.schemes`), and moorline's truly implicit
+    ``GenAlpha[rho_inf]`` (generalized-alpha with Newton iterations, :mod:`moorline.core.implicit`;
+    ``params[0]`` = rho_inf, default 0; ``GenAlpha1`` is the implicit trapezoidal rule, i.e. the
+    ACA rule solved to convergence). Unknown names fall back to RK2 as MoorDyn does, with a warning.
 
     Returns
     -------
     scheme : Scheme
-    params : ndarray (4,)
-        [c, M, c0, c1] of the implicit schemes (unused by the others).
+    params : ndarray (8,)
+        [c, M, c0, c1, AB order, steps taken, gamma (theta), beta] (see :mod:`.schemes`); LEuler
+        needs two more entries per line, which :class:`moorline.System` appends.
     label : str
     """
     key = str(name).strip().upper()
-    params = np.array([1.0, 1.0, 0.9, 0.0])
+    params = np.zeros(SP_LINES)
+    params[:4] = (1.0, 1.0, 0.9, 0.0)
     if key in ("EULER", "RK1"):
         return Scheme.EULER, params, "Euler"
+    if key == "HEUN":
+        return Scheme.HEUN, params, "Heun"
+    if key == "LEULER":
+        return Scheme.LEULER, params, "LEuler"
+    if key in ("AB2", "AB3", "AB4", "LAB2", "LAB3", "LAB4"):
+        # MoorDyn-C builds the same (non-local) Adams-Bashforth scheme for LAB<n> as for AB<n>
+        params[SP_ORDER] = int(key[-1])
+        return Scheme.AB, params, key
+    for prefix, scheme, label, c0, c1 in (("ACA", Scheme.NEWMARK, "ACA", 0.9, 0.15),
+                                          ("WILSON", Scheme.WILSON, "Wilson", 0.015, 0.0)):
+        if key.startswith(prefix):
+            rest = key[len(prefix):]
+            if not rest.isdigit() or int(rest) < 1:
+                raise ValueError(f"time scheme {name!r}: expected {label}<M> with M >= 1 iterations, e.g. {label}5")
+            params[1] = int(rest)
+            params[2] = c0
+            params[3] = c1
+            if scheme == Scheme.NEWMARK:
+                params[SP_GAMMA] = 0.5
+                params[SP_BETA] = 0.25
+            else:
+                params[SP_GAMMA] = 1.37
+            return scheme, params, f"{label}{int(rest)}"
     if key == "RK2":
         return Scheme.RK2, params, "RK2"
     if key == "RK4":
@@ -98,11 +131,8 @@ def parse_scheme(name: str) -> tuple[Scheme, np.ndarray, str]:
             params[0] = c
             params[1] = int(rest)
             return Scheme.IMPLICIT, params, f"{label}{int(rest)}"
-    if key in _MOORDYN_NAMES or key.startswith(_MOORDYN_PREFIXES):
-        log.warning("time scheme %r is a MoorDyn scheme that moorline does not implement yet; using RK2", name)
-    else:
-        log.warning("unknown time scheme %r (expected Euler, RK2, RK4, BEuler<M>, Midpoint<M> or GenAlpha); using RK2 "
-                    "as MoorDyn does", name)
+    log.warning("unknown time scheme %r (expected Euler, LEuler, Heun, RK2, RK4, AB2-AB4, LAB2-LAB4, BEuler<M>, "
+                "Midpoint<M>, ACA<M>, Wilson<M> or GenAlpha); using RK2 as MoorDyn does", name)
     return Scheme.RK2, params, "RK2"
 
 
@@ -119,6 +149,18 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     start), ``sp`` = [c, M, c0, c1] (spec 5.2)."""
     if scheme == 3:
         _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
+        return
+    if scheme >= 5:
+        if scheme == 5:
+            heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
+        elif scheme == 6:
+            ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
+        elif scheme == 7:
+            leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
+        elif scheme == 8:
+            newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
+        else:
+            wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
         return
     k1 = S[0]
     k2 = S[1]

@@ -18,7 +18,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..model import BodyKind, Curve, Model, PointKind, RodKind
+from ..model import ELASTIC, SYROPE, SYROPE_WC_TYPES, BodyKind, Curve, Model, PointKind, RodKind
+from .linestates import N_XC, NWC, XC_HIST, XC_VIV, XC_WCLINE, build_working_curve
 from .seabed import CONTACT_NORMAL, CONTACT_VERTICAL, FRIC_DIRECTIONAL, FRIC_ISOTROPIC, FRIC_STICKSLIP
 from .waterkin import build_water_kinematics, still_water
 
@@ -61,6 +62,22 @@ class LineArrays(NamedTuple):
     tab_x: np.ndarray  # flat table abscissae
     tab_y: np.ndarray  # flat table ordinates
     node_row: np.ndarray  # int64 (n_nodes,): state row of the node, -1 for end nodes
+    # line states (core.linestates): viscoelastic and Syrope segments, VIV
+    vis: np.ndarray  # int64 (n_lines,): axial model (linestates.VIS_*)
+    vis_par: np.ndarray  # (n_lines, 3): EA_D (alpha) [N], EA_D_Lm (beta) [-], BA_D [N s]
+    seg_xs: np.ndarray  # int64 (n_seg,): index of the segment's stretch state in the line-state block, -1 none
+    node_xs: np.ndarray  # int64 (n_nodes,): index of the node's VIV phase in the line-state block, -1 none
+    viv: np.ndarray  # (n_lines, 3): Cl, dF, cF
+    viv_h: np.ndarray  # (n_nodes, 2): running RMS of the cross-flow velocity and acceleration (history)
+    xs_ctl: np.ndarray  # (linestates.N_XC,): mode, step, history switch, VIV clock (see core.linestates)
+    xs_s0: np.ndarray  # (n_xs,): line states at the start of an implicit step
+    xs_f0: np.ndarray  # (n_xs,): their rates there
+    sy_tab: np.ndarray  # int64 (n_lines, 2): rows of the original working curve in sy_owc
+    sy_owc: np.ndarray  # (n_owc, 3): Syrope original working curves: strain, tension [N], slow strain
+    sy_par: np.ndarray  # (n_lines, 3): working-curve shape (linestates.WC_*), k1, k2
+    sy_T: np.ndarray  # (n_seg, 2): Syrope Tmax, Tmean [N] (history)
+    sy_wc: np.ndarray  # (n_seg or 0, NWC, 3): Syrope working curves (history)
+    calc: np.ndarray  # int64 (n_lines,): 1 evaluate the line's loads; 0 keep its last ones (local Euler)
 
 
 # rod kinds (mirror model.RodKind) and body kinds (mirror model.BodyKind)
@@ -80,15 +97,17 @@ BODY_FREE = int(BodyKind.FREE)
 class RigidArrays(NamedTuple):
     """Rods and bodies, and the sizes of the state blocks.
 
-    The state ``y = [Q | U | Z]``: ``Q`` holds 3 numbers per 3-DOF row (internal line nodes, free
-    points, free zero-length rods) then 7 per 6-DOF block (position, unit quaternion w x y z),
+    The state ``y = [Q | U | Z | X]``: ``Q`` holds 3 numbers per 3-DOF row (internal line nodes,
+    free points, free zero-length rods) then 7 per 6-DOF block (position, unit quaternion w x y z),
     ``U`` 3 per row (velocity) then 6 per block (velocity, angular velocity in global axes), ``Z``
-    the radiation states of floating bodies (first order, :mod:`moorline.core.floating`).
+    the radiation states of floating bodies (first order, :mod:`moorline.core.floating`), ``X`` the
+    line states (first order: viscoelastic stretch, VIV phase; :mod:`moorline.core.linestates`).
     6-DOF blocks belong to free rods, pinned rods (all kinds) and free and coupled-pinned bodies;
     the translational part of a pinned object's block is not used (its parent sets it).
     """
 
-    dims: np.ndarray  # int64 (3,): n3 rows, n6 blocks, nz radiation states (after U, see core.floating)
+    dims: np.ndarray  # int64 (4,): n3 rows, n6 blocks, nz radiation states (after U, see core.floating),
+    #                   nx line states (after Z, see core.linestates)
     rod_kind: np.ndarray  # int64 (nr,) ROD_*
     rod_N: np.ndarray  # int64 (nr,) segments (0: zero-length rod)
     rod_body: np.ndarray  # int64 (nr,) parent body, -1 if none
@@ -232,6 +251,12 @@ class Work(NamedTuple):
     m33: np.ndarray  # (5, 3, 3)
     v6: np.ndarray  # (3, 6)
     dense: np.ndarray  # (6, 7) augmented matrix of the small dense solves
+    seg_s: np.ndarray  # (n_seg,) stretch state of viscoelastic segments used by the evaluation [m]
+    seg_sdot: np.ndarray  # (n_seg,) its rate [m/s]
+    phi: np.ndarray  # (n_nodes,) VIV lift phase [rad]
+    dphi: np.ndarray  # (n_nodes,) its rate [rad/s]
+    Flift: np.ndarray  # (n_nodes, 3) VIV lift force [N]
+    acc_old: np.ndarray  # (n_nodes, 3) node accelerations of the previous evaluation (VIV)
 
 
 # ------------------------------------------------------------------------ floating bodies
@@ -418,7 +443,17 @@ class Layout:
 
     @property
     def n_state(self) -> int:
-        return 6 * self.n_rows + 13 * self.n_blocks + self.n_radiation
+        return 6 * self.n_rows + 13 * self.n_blocks + self.n_radiation + self.n_line_states
+
+    @property
+    def n_line_states(self) -> int:
+        """Number of line states (viscoelastic stretch, VIV phase; at the very end of the state)."""
+        return int(self.rigid.dims[3])
+
+    @property
+    def xs_offset(self) -> int:
+        """Index in the state where the line states start (after the radiation states)."""
+        return self.z_offset + self.n_radiation
 
     @property
     def n_radiation(self) -> int:
@@ -463,7 +498,8 @@ class Layout:
                     bv=z((nb, 3)), bw=z((nb, 3)), bU=z((nb, 3)), fk=z((max(nn, nrn, npnt, nb, 1), 8)),
                     b6F=z((nb, 6)), b6M=z((nb, 6, 6)), bacc=z((nb, 6)), pr=z((npnt, 3)), pv=z((npnt, 3)),
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
-                    ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)))
+                    ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)), seg_s=z(ns), seg_sdot=z(ns),
+                    phi=z(nn), dphi=z(nn), Flift=z((nn, 3)), acc_old=z((nn, 3)))
 
     def new_float_work(self) -> FloatWork:
         return new_float_work(self.fl)
@@ -615,16 +651,18 @@ def build_layout(model: Model, floating=None) -> Layout:
         row=prow, cpl=cpl,
         body=np.array([p.body if p.kind == PointKind.BODY else -1 for p in model.points], dtype=np.int64),
     )
+    states, nx = _line_state_arrays(model, node_ptr, seg_ptr)
     lines = LineArrays(node_ptr, seg_ptr, end_kind, end_idx, clamped, props["d"], props["A"], props["w"],
                        props["Cd"], props["Ca"], props["CdAx"], props["CaAx"], ea_tab, ba_tab, EI, ei_tab, seg_l0,
-                       seg_EA, seg_BA, np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row)
+                       seg_EA, seg_BA, np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row, *states)
+    _start_syrope(model, lines)
     if floating is None:
         fl, exc = empty_float_arrays(len(model.bodies)), no_excitation(0)
     else:
         fl, exc = floating
         fl = _place_floating(fl, row, nblk, body_blk)
-    rigid = _rigid_arrays(model, np.array([row, nblk, fl.ss_B.size], dtype=np.int64), rod_blk, rod_row, rod_cpl,
-                          body_blk, body_cpl)
+    rigid = _rigid_arrays(model, np.array([row, nblk, fl.ss_B.size, nx], dtype=np.int64), rod_blk, rod_row,
+                          rod_cpl, body_blk, body_cpl)
     e = model.env
     muT, muA, mc, cv = e.friction_coefficients()
     fric = {"isotropic": FRIC_ISOTROPIC, "directional": FRIC_DIRECTIONAL, "stickslip": FRIC_STICKSLIP}[e.friction]
@@ -644,6 +682,65 @@ def build_layout(model: Model, floating=None) -> Layout:
     return Layout(lines, rigid, points, env, seabed, row, nblk, off, N, line_L,
                   [ln.line_type for ln in model.lines], model.coupled_points, model.coupled_rods, model.coupled_bodies,
                   env._replace(water=water_ic, exc=no_excitation(exc.Xr.shape[1])), fl)
+
+
+def _line_state_arrays(model: Model, node_ptr, seg_ptr) -> tuple[tuple, int]:
+    """The line-state fields of :class:`LineArrays` (viscoelastic and Syrope segments, VIV nodes;
+    see :mod:`moorline.core.linestates`) and the number of line states."""
+    nl = len(model.lines)
+    nn, ns = int(node_ptr[-1]), int(seg_ptr[-1])
+    vis = np.ones(nl, dtype=np.int64)
+    vis_par = np.zeros((nl, 3))
+    viv = np.zeros((nl, 3))
+    seg_xs = -np.ones(ns, dtype=np.int64)
+    node_xs = -np.ones(nn, dtype=np.int64)
+    sy_tab = np.zeros((nl, 2), dtype=np.int64)
+    sy_par = np.zeros((nl, 3))
+    owc: list[np.ndarray] = []
+    n_owc = 0
+    x = 0
+    for k, ln in enumerate(model.lines):
+        lt = model.line_types[ln.line_type]
+        vis[k] = lt.elastic
+        vis_par[k] = (lt.EA_D, lt.EA_D_Lm, lt.BA_D)
+        if lt.elastic != ELASTIC:
+            seg_xs[seg_ptr[k]:seg_ptr[k + 1]] = np.arange(x, x + seg_ptr[k + 1] - seg_ptr[k])
+            x += int(seg_ptr[k + 1] - seg_ptr[k])
+        if lt.elastic == SYROPE:
+            c = lt.syrope.owc
+            z = c.x - np.log1p(lt.EA_D_Lm / lt.EA_D * c.y) / lt.EA_D_Lm
+            owc.append(np.column_stack([c.x, c.y, z]))
+            sy_tab[k] = (n_owc, c.x.size)
+            n_owc += c.x.size
+            sy_par[k] = (SYROPE_WC_TYPES.index(lt.syrope.wc_type.upper()), lt.syrope.k1, lt.syrope.k2)
+    for k, ln in enumerate(model.lines):
+        lt = model.line_types[ln.line_type]
+        if lt.Cl > 0.0:
+            viv[k] = (lt.Cl, lt.dF, lt.cF)
+            inner = np.arange(node_ptr[k] + 1, node_ptr[k + 1] - 1)
+            node_xs[inner] = np.arange(x, x + inner.size)
+            x += inner.size
+    any_syrope = bool(np.any(vis == SYROPE))
+    xs_ctl = np.zeros(N_XC)
+    xs_ctl[XC_HIST] = 1.0
+    xs_ctl[XC_VIV] = 1.0
+    xs_ctl[XC_WCLINE] = 1.0 if model.options.SyropeWorkingCurve == "line" else 0.0
+    states = (vis, vis_par, seg_xs, node_xs, viv, np.zeros((nn, 2)), xs_ctl, np.zeros(x), np.zeros(x), sy_tab,
+              np.vstack(owc) if owc else np.zeros((0, 3)), sy_par, np.zeros((ns, 2)),
+              np.zeros((ns if any_syrope else 0, NWC, 3)), np.ones(nl, dtype=np.int64))
+    return states, x
+
+
+def _start_syrope(model: Model, L: LineArrays) -> None:
+    """Syrope history at the start: every segment of a Syrope line at its line's (Tmax0, Tmean0),
+    with the working curve of Tmax0."""
+    for k, ln in enumerate(model.lines):
+        if L.vis[k] != SYROPE:
+            continue
+        tmax, tmean = ln.syrope_ic
+        for s in range(int(L.seg_ptr[k]), int(L.seg_ptr[k + 1])):
+            L.sy_T[s] = (tmax, tmean)
+            build_working_curve(L, k, s, tmax)
 
 
 def _water(model: Model, depth: float, n_ext: int):

@@ -14,6 +14,7 @@ import numpy as np
 from numba import njit
 
 from .layout import ATT_ROD_A, ATT_ROD_B
+from .linestates import VIS_ELASTIC, segment_axial
 from .numerics import bracket, unit3
 from .seabed import FRIC_STICKSLIP, seabed_at, seabed_force, seabed_force_stickslip
 
@@ -130,7 +131,11 @@ def line_forces(L, E, B, W, cd_scale):
     nl = node_ptr.size - 1
 
     # ---- segments: length, direction, strain, tension, damping, submergence
+    vis = L.vis
+    calc = L.calc
     for li in range(nl):
+        if calc[li] == 0:
+            continue  # local-time-step Euler keeps this line's loads of its last update
         n0 = node_ptr[li]
         N = node_ptr[li + 1] - n0 - 1
         s0 = seg_ptr[li]
@@ -139,6 +144,7 @@ def line_forces(L, E, B, W, cd_scale):
         ean = ea_tab[li, 1]
         ba0 = ba_tab[li, 0]
         ban = ba_tab[li, 1]
+        visco = vis[li] != VIS_ELASTIC
         for k in range(N):
             s = s0 + k
             a = n0 + k
@@ -147,7 +153,10 @@ def line_forces(L, E, B, W, cd_scale):
             ldot = ex * (v[b, 0] - v[a, 0]) + ey * (v[b, 1] - v[a, 1]) + ez * (v[b, 2] - v[a, 2])
             l0 = seg_l0[s]
             strain = ls / l0 - 1.0
-            if strain > 0.0:
+            if visco:
+                # viscoelastic and Syrope ropes: the static branch's stretch state (core.linestates)
+                Tm, Dm = segment_axial(L, W, li, s, ls, ldot, l0)
+            elif strain > 0.0:
                 if ean > 0:
                     Tm = table_interp(tab_x, tab_y, ea0, ean, strain)
                 else:
@@ -155,7 +164,9 @@ def line_forces(L, E, B, W, cd_scale):
             else:
                 Tm = 0.0
             rate = ldot / l0
-            if ban > 0:
+            if visco:
+                pass
+            elif ban > 0:
                 if tab_x[ba0] < 0.0:
                     Dm = table_interp(tab_x, tab_y, ba0, ban, rate)
                 else:
@@ -182,6 +193,8 @@ def line_forces(L, E, B, W, cd_scale):
 
     # ---- nodes
     for li in range(nl):
+        if calc[li] == 0:
+            continue
         n0 = node_ptr[li]
         N = node_ptr[li + 1] - n0 - 1
         s0 = seg_ptr[li]
@@ -374,6 +387,8 @@ def line_bending(L, W):
     Fb = W.Fbend
     end_moment = W.end_moment
     for li in range(node_ptr.size - 1):
+        if L.calc[li] == 0:
+            continue
         n0 = node_ptr[li]
         N = node_ptr[li + 1] - n0 - 1
         s0 = seg_ptr[li]

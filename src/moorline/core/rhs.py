@@ -17,6 +17,7 @@ from numba import njit
 from .floating import floating_loads, floating_motion
 from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
+from .linestates import XC_TIME, line_state_rates, load_line_states, viv_after, viv_before
 from .numerics import bracket
 from .rigid import (
     body_kinematics,
@@ -91,6 +92,8 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
             for c in range(3):
                 r[n, c] = y[o + c]
                 v[n, c] = y[uoff + o + c]
+    if L.xs_s0.size > 0:
+        load_line_states(y, L, R, W)
     if R.body_kind.size > 0:
         body_kinematics(y, R, W)
     if R.rod_kind.size > 0:
@@ -212,6 +215,14 @@ def point_loads(P, E, W, cd_scale):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _any_viv(L):
+    for li in range(L.viv.shape[0]):
+        if L.viv[li, 0] > 0.0:
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
@@ -263,7 +274,13 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
             for b in range(3):
                 pM[p, a, b] = 0.0
     nl = node_ptr.size - 1
+    viv = L.node_xs.size > 0 and L.xs_s0.size > 0 and L.viv.size > 0 and _any_viv(L)
+    if viv:
+        L.xs_ctl[XC_TIME] = t
+        viv_before(L, W)
     line_forces(L, E, B, W, cd_scale)
+    if viv:
+        viv_after(L, E, W)
     end_moment = W.end_moment
     for li in range(nl):
         for j in range(2):
@@ -299,6 +316,8 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
             dy[o] = pa[p, 0]
             dy[o + 1] = pa[p, 1]
             dy[o + 2] = pa[p, 2]
+    if L.xs_s0.size > 0:
+        line_state_rates(L, R, W, dy)
     if nrod > 0 or R.body_kind.size > 0:
         if nrod > 0:
             rod_loads(R, E, B, W, cd_scale)

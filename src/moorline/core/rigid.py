@@ -29,7 +29,6 @@ from .layout import (
     ROD_BODY_PINNED,
     ROD_COUPLED,
     ROD_COUPLED_PINNED,
-    ROD_FIXED,
     ROD_FREE,
 )
 from .numerics import (
@@ -189,16 +188,12 @@ def rod_kinematics(y, R, W):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def zero_length_axes(R, L, W):
-    """Axis of the zero-length rods that take it from their cables (spec 3.14.4): the normalised
-    sum over attached lines of sigma EI e_end / l_end, sigma = +1 for a line end B on rod end A or a
-    line end A on rod end B, -1 otherwise. Fixed, coupled and body-fixed zero-length rods with a
-    direction in the deck keep it (moorline's choice, see docs)."""
+    """Axis of every zero-length rod from its cables (spec 3.14.4, MoorDyn's semantics): the
+    normalised sum over attached lines of sigma EI e_end / l_end, sigma = +1 for a line end B on rod
+    end A or a line end A on rod end B, -1 otherwise. Whatever the rod is attached to (fixed, on a
+    body, coupled, free), so a single cable on it is in effect pinned there."""
     for k in range(R.rod_kind.size):
         if R.rod_N[k] != 0:
-            continue
-        kind = R.rod_kind[k]
-        if (kind == ROD_FIXED or kind == ROD_COUPLED or kind == ROD_BODY) and (
-                R.rod_qrel[k, 0] ** 2 + R.rod_qrel[k, 1] ** 2 + R.rod_qrel[k, 2] ** 2) > 0.5:
             continue
         sx = 0.0
         sy = 0.0

@@ -14,14 +14,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import Model
+from ..model import ELASTIC, SYROPE, VISCO_CONSTANT, Model
 from .integrate import STABLE_OMEGA_DT, Scheme
 from .layout import P_FREE, Layout
 
 #: largest stable omega*dt for an UNDAMPED oscillation: RK4 is stable to 2.83; RK2 amplifies it by
 #: about (omega dt)^4 / 8 per step (spec 5.4), kept below 1e-6 per step; Euler always amplifies it
 UNDAMPED_OMEGA_DT = {Scheme.EULER: 0.0, Scheme.RK2: (8e-6) ** 0.25, Scheme.RK4: 2.8, Scheme.IMPLICIT: 1.0,
-                     Scheme.GENALPHA: math.inf}
+                     Scheme.GENALPHA: math.inf, Scheme.HEUN: (8e-6) ** 0.25, Scheme.AB: 0.0, Scheme.LEULER: 0.0,
+                     Scheme.NEWMARK: 1.0, Scheme.WILSON: 1.0}
 
 
 @dataclass
@@ -74,13 +75,17 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
         lt = model.line_types[ln.line_type]
         l0 = layout.line_L[li] / layout.line_N[li]
         name = f"line {li + 1}"
-        modes.append(Mode(name, "axial segment mode", 2.0 / l0 * math.sqrt(lt.EA_max / lt.w)))
+        EA = lt.EA_max
+        BA = float(L.seg_BA[L.seg_ptr[li]])
+        if lt.elastic != ELASTIC:
+            EA, BA, relax = _viscoelastic_rates(model, ln, lt, BA)
+            modes.append(Mode(name, "viscoelastic stretch relaxation", relax))
+        modes.append(Mode(name, "axial segment mode", 2.0 / l0 * math.sqrt(EA / lt.w)))
         if lt.has_bending:
             modes.append(Mode(name, "highest bending mode (undamped)", 4.0 / l0**2 * math.sqrt(lt.EI_max / lt.w),
                               damped=False))
-        BA = float(L.seg_BA[L.seg_ptr[li]])
         if BA > 0:
-            zeta = BA / (l0 * math.sqrt(lt.EA_ref * lt.w))
+            zeta = BA / (l0 * math.sqrt(EA * lt.w))
             if zeta > 1.0:
                 modes.append(Mode(name, f"over-damped internal damping (zeta {zeta:.3g})",
                                   4.0 * BA / (lt.w * l0 * l0)))
@@ -108,6 +113,30 @@ def fast_modes(model: Model, layout: Layout, on_seabed: np.ndarray | None = None
             modes.append(Mode(f"point {p + 1}", "point on its lines", math.sqrt(k / m)))
     modes += _rigid_modes(model, layout)
     return modes
+
+
+def _viscoelastic_rates(model: Model, line, lt, BAs: float) -> tuple[float, float, float]:
+    """(axial stiffness [N] and damping [N s] the nodes of a viscoelastic segment feel at once,
+    relaxation rate of its stretch state [1/s]).
+
+    The tension EA_1 s / l acts through the state s, but its damper passes the instant part
+    BA_s (EA_d dl + BA_d ldot) / ((BA_s + BA_d) l): a stiffness EA_d BA_s / (BA_s + BA_d) and the
+    two dampers in series. The state relaxes at the rate (EA_d + EA_1) / (BA_s + BA_d).
+    EA_d is estimated at the Syrope line's Tmax0, or at 1 % strain for the mean-load model."""
+    if lt.elastic == VISCO_CONSTANT:
+        ea_d = lt.EA_D
+    elif lt.elastic == SYROPE:
+        ea_d = lt.EA_D + lt.EA_D_Lm * (line.syrope_ic[0] if line.syrope_ic else 0.0)
+    else:
+        ea_d = lt.EA_D + lt.EA_D_Lm * 0.01 * lt.EA_ref
+    BAd = lt.BA_D
+    den = BAs + BAd
+    ea_s = lt.EA_ref
+    ea_1 = ea_d * ea_s / (ea_d - ea_s) if ea_d != ea_s else math.inf
+    EA = max(lt.EA_max, ea_d * BAs / den) if den > 0 else lt.EA_max
+    BA = BAs * BAd / den if den > 0 else 0.0
+    relax = abs(ea_d + ea_1) / den if den > 0 else math.inf
+    return EA, BA, relax
 
 
 def _seabed_height(model: Model, depth: float, r) -> float:

@@ -13,6 +13,7 @@ from numba import njit
 
 from .integrate import advance
 from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
+from .linestates import xs_offset
 from .rhs import rhs
 
 
@@ -87,7 +88,9 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
         return 1, 0.0, 0.0, 0
     dy = S[0]
     qprev = S[1]
-    for i in range(uoff, y.size):
+    # at rest: velocities and radiation states zero; the line states (Syrope slow strain: history)
+    # are kept
+    for i in range(uoff, xs_offset(R)):
         y[i] = 0.0
     b = 1.0
     t = 0.0
@@ -219,7 +222,7 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
 def _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6):
     """f at the positions of ``y`` with zero velocities into IW.f0; returns (max |acc|, L2 norm)."""
     uoff = 3 * n3 + 7 * n6
-    for i in range(uoff, y.size):
+    for i in range(uoff, xs_offset(R)):  # the line states are kept (see stationary_solve)
         y[i] = 0.0
     rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, -1)
     IW.stat[S_NRHS] += 1

@@ -10,13 +10,17 @@ import logging
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from ..model import (
     BODY_KIND_WORDS,
     CONTACT_MODES,
+    ELASTIC,
     FRICTION_MODELS,
     POINT_KIND_WORDS,
+    SYROPE,
+    VISCO_CONSTANT,
+    VISCO_MEAN,
     Attachment,
     BodyKind,
     PointKind,
@@ -105,18 +109,65 @@ def _flags(tok, rd=None):
     return "" if tok == "-" else tok
 
 
+class AxialField(NamedTuple):
+    """The EA field of LINE TYPES: the stiffness (a number, a curve, or the Syrope original
+    working curve), the axial model and its dynamic-stiffness parameters (spec 1.3.1)."""
+
+    EA: Any
+    elastic: int
+    EA_D: float = 0.0
+    EA_D_Lm: float = 0.0
+    syrope: Any = None
+
+
+class DampingField(NamedTuple):
+    """The BA field: BA (or -zeta, or a curve) and, for the viscoelastic models, BA_d."""
+
+    BA: Any
+    BA_D: float | None = None
+
+
 def _ea(tok, rd):
-    if "|" in tok or tok.upper().startswith("SYROPE"):
-        raise BadField(f"{tok!r}: the viscoelastic and Syrope rope models (EA_s|EA_d, EA_s|EA_Dc|EA_D_Lm, "
-                   "SYROPE:...) are not supported yet; give EA as a number or a curve file", plain=True)
-    return rd.number_or_curve(tok, "EA", "a number > 0", lambda v: v > 0)
+    parts = tok.split("|")
+    if len(parts) > 3:
+        raise BadField(f"{tok!r}: at most three bar-separated values (EA, EA_s|EA_d, EA_s|EA_Dc|EA_D_Lm or "
+                       "SYROPE:<settings>|EA_Dc|EA_D_Lm)", plain=True)
+    rest = []
+    for x in parts[1:]:
+        v = parse_number(x)
+        if v is None or v < 0:
+            raise BadField(f"{tok!r}: the dynamic-stiffness values after '|' must be numbers >= 0, got {x!r}",
+                           plain=True)
+        rest.append(v)
+    head = parts[0]
+    if head.upper().startswith("SYROPE:"):
+        if len(parts) != 3:
+            raise BadField(f"{tok!r}: the Syrope model is SYROPE:<settings file>|EA_Dc|EA_D_Lm (three values)",
+                           plain=True)
+        syrope = rd.syrope_settings(head[len("SYROPE:"):])
+        return AxialField(syrope.owc, SYROPE, rest[0], rest[1], syrope)
+    if head.upper().startswith("SYROPE"):
+        raise BadField(f"{tok!r}: expected SYROPE:<settings file>|EA_Dc|EA_D_Lm", plain=True)
+    EA = rd.number_or_curve(head, "EA", "a number > 0", lambda v: v > 0)
+    if len(parts) == 1:
+        return AxialField(EA, ELASTIC)
+    if len(parts) == 2:
+        return AxialField(EA, VISCO_CONSTANT, rest[0])
+    return AxialField(EA, VISCO_MEAN, rest[0], rest[1])
 
 
 def _ba(tok, rd):
-    if "|" in tok:
-        raise BadField(f"{tok!r}: BA_s|BA_d belongs to the viscoelastic/Syrope models, which are not supported "
-                   "yet; give BA as a number (negative = -zeta) or a curve file", plain=True)
-    return rd.number_or_curve(tok, "BA", "a number (negative = -zeta damping ratio)", None)
+    parts = tok.split("|")
+    if len(parts) > 2:
+        raise BadField(f"{tok!r}: at most two bar-separated values (BA_s|BA_d)", plain=True)
+    BA = rd.number_or_curve(parts[0], "BA", "a number (negative = -zeta damping ratio)", None)
+    if len(parts) == 1:
+        return DampingField(BA)
+    v = parse_number(parts[1])
+    if v is None or v < 0:
+        raise BadField(f"{tok!r}: BA_d must be a number >= 0 (the dynamic damper takes no -zeta ratio), got "
+                       f"{parts[1]!r}", plain=True)
+    return DampingField(BA, v)
 
 
 def _ei(tok, rd):
@@ -333,8 +384,9 @@ OPTION_TABLE = (
     ("dtM", ("dt",), "options", "dtM", _pos),
     ("CFL", (), "options", "CFL", _pos),
     ("tScheme", (), "options", "tScheme", _word),
-    ("g", ("gravity",), "env", "g", _pos),
-    ("rho", ("WtrDnsty", "rhoW"), "env", "rho", _pos),
+    # g 0 (weightless) and rho 0 (vacuum) are valid MoorDyn input (its own body tests use them)
+    ("g", ("gravity",), "env", "g", _nonneg),
+    ("rho", ("WtrDnsty", "rhoW"), "env", "rho", _nonneg),
     ("WtrDpth", ("depth", "WaterDepth"), "env", "depth", _depth),
     ("kBot", ("kb",), "env", "kBot", _nonneg),
     ("cBot", ("cb",), "env", "cBot", _nonneg),
@@ -355,6 +407,7 @@ OPTION_TABLE = (
     ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
     ("ICNewton", (), "options", "ICNewton", _auto01),
     ("dtOut", (), "options", "dtOut", _nonneg),
+    ("SyropeWorkingCurve", (), "options", "SyropeWorkingCurve", _choice("segment", "line")),
     ("WriteUnits", (), "options", "WriteUnits", _flag01),
     ("disableOutput", (), "options", "disableOutput", _flag01),
 )

@@ -13,8 +13,9 @@ PROPERTIES), LINES (v2 layout and the v1 layout with the length before the end p
 OUTPUTS, EA/BA/EI curve files, seabed bathymetry (MoorDyn-C ``SeafloorFile`` grids and MoorDyn-F
 depth grids given as ``WtrDpth``), seabed friction of both MoorDyn flavours, and moorline's own
 seabed keys (``SeabedContact``, ``FrictionModel``, ``kShear``). The CONTROL and EXTERNAL LOADS
-sections (MoorDyn-F only) are skipped with a warning, as MoorDyn-C does; SYROPE IC (the Syrope rope
-model) and FAILURE (line failures) raise a DeckError saying they are not implemented.
+sections (MoorDyn-F only) are skipped with a warning, as MoorDyn-C does. The viscoelastic and Syrope
+rope models (bar-separated EA and BA fields, the Syrope settings file and its SYROPE IC section) are
+read here too.
 
 MoorDyn v1 LINES rows (``Line LineType UnstrLen NumSegs NodeAnch NodeFair Flags``) are told apart
 from v2 rows (``ID LineType AttachA AttachB UnstrLen NumSegs Outputs``) row by row: a row is v1 when
@@ -31,6 +32,8 @@ from pathlib import Path
 
 from ..errors import DeckError
 from ..model import (
+    ELASTIC,
+    SYROPE,
     Body,
     BodyKind,
     Curve,
@@ -42,6 +45,7 @@ from ..model import (
     PointKind,
     Rod,
     RodType,
+    SyropeCurve,
 )
 from .columns import (
     BODY_COLUMNS,
@@ -69,7 +73,6 @@ log = logging.getLogger("moorline.io")
 CURVE_MAX_POINTS = 30
 
 _UNSUPPORTED = {
-    "SYROPE IC": "the Syrope rope model is not implemented",
     "FAILURE": "line failures are not implemented",
 }
 _IGNORED = ("CONTROL", "EXTERNAL LOADS")  # MoorDyn-F only; MoorDyn-C ignores them too
@@ -210,12 +213,106 @@ class _Reader:
             f = self.read_fields("LINE TYPES", row, cols)
             if n == 11:
                 f.update(dF=0.08, cF=0.18)
+            self.axial_model(row, f)
             name = f.pop("name")
             if name in self.model.line_types:
                 log.warning("%s, line %d: line type %r defined again; the later definition wins", self.file,
                             row.line, name)
             self.model.line_types[name] = LineType(name, **f)
             self.type_rows[name] = row
+
+    def axial_model(self, row: Row, f: dict) -> None:
+        """Unpack the EA and BA fields of a LINE TYPES row into the LineType keywords (spec 1.3.1)."""
+        ax, ba = f.pop("EA"), f.pop("BA")
+        f.update(EA=ax.EA, BA=ba.BA, elastic=ax.elastic, EA_D=ax.EA_D, EA_D_Lm=ax.EA_D_Lm, syrope=ax.syrope)
+        if ax.elastic == ELASTIC:
+            if ba.BA_D is not None:
+                raise self.error("field 'BA/-zeta' of LINE TYPES: expected one value: BA_s|BA_d goes with a "
+                                 "viscoelastic or Syrope EA field (EA_s|EA_d, EA_s|EA_Dc|EA_D_Lm, SYROPE:...)", row,
+                                 "BA/-zeta")
+            return
+        if ba.BA_D is None:
+            log.info("%s, line %d: no BA_d given for the viscoelastic line type: BA_d = 0 (as MoorDyn)", self.file,
+                     row.line)
+        f["BA_D"] = ba.BA_D or 0.0
+
+    def syrope_settings(self, tok: str) -> SyropeCurve:
+        """The Syrope settings file ``tok`` (relative to the deck's folder; spec 1.11.4): rows
+        ``value key [comment]`` with the keys OWC (curve file, relative to the deck's folder), WCType,
+        k1 and k2."""
+        p = self.base_dir / tok
+        try:
+            text = p.read_bytes().decode("utf-8", errors="replace")
+        except OSError as e:
+            raise BadField(f"SYROPE:{tok}: cannot read the Syrope settings file {p}: {e.strerror or e}",
+                           plain=True) from None
+        got: dict[str, tuple[str, int, str]] = {}
+        for lineno, raw in enumerate(split_lines(text), 1):
+            toks = tokenize(raw)
+            if len(toks) < 2:
+                continue
+            got[toks[1].upper()] = (toks[0], lineno, raw)
+        missing = [k for k in ("OWC", "WCTYPE", "K1", "K2") if k not in got]
+        if missing:
+            raise BadField(f"Syrope settings file {p}: expected rows 'value key' for OWC, WCType, k1 and k2; "
+                           f"missing {', '.join(missing)}", plain=True)
+        vals = {}
+        for key in ("K1", "K2"):
+            v = parse_number(got[key][0])
+            if v is None:
+                raise BadField(f"Syrope settings file {p}, line {got[key][1]}: expected a number for {key.lower()}, "
+                               f"got {got[key][0]!r}", plain=True)
+            vals[key] = v
+        owc_path = self.base_dir / got["OWC"][0]
+        if not owc_path.is_file():
+            raise BadField(f"Syrope settings file {p}, line {got['OWC'][1]}: no such original working curve file "
+                           f"{owc_path} (relative to the deck's folder, as MoorDyn reads it)", plain=True)
+        try:
+            owc = _load_curve(owc_path, "Syrope OWC")
+        except CurveProblem as e:
+            where = f"{owc_path}" + (f", line {e.line}" if e.line is not None else "")
+            raise BadField(f"bad Syrope original working curve {where}: {e.message}", plain=True) from None
+        curve = SyropeCurve(owc, got["WCTYPE"][0].upper(), vals["K1"], vals["K2"], source=str(p))
+        try:
+            curve.check()
+        except ModelError as e:
+            raise BadField(str(e), plain=True) from None
+        return curve
+
+    def read_syrope_ic(self):
+        """SYROPE IC rows ``Line(s) Tmax0 Tmean0`` (spec 1.9)."""
+        sec = self.sections.get("SYROPE IC")
+        rows = sec.rows if sec is not None else []
+        syrope = {n for n, lt in self.model.line_types.items() if lt.elastic == SYROPE}
+        if rows and not syrope:
+            raise self.error("section SYROPE IC: no line type uses the Syrope model (SYROPE:<settings>|EA_Dc|EA_D_Lm "
+                             "in LINE TYPES)", line=sec.line)
+        nl = len(self.model.lines)
+        for row in rows:
+            if len(row.tokens) < 3:
+                raise self.error(f"SYROPE IC row has {len(row.tokens)} values, expected 3 (Line(s) Tmax0 Tmean0)", row,
+                                 ("Line(s)", "Tmax0", "Tmean0")[len(row.tokens)])
+            ids = []
+            for part in row.tokens[0].split(","):
+                v = parse_whole(part)
+                if v is None or not 1 <= v <= nl:
+                    raise self.error(f"field 'Line(s)' of SYROPE IC: expected line numbers from 1 to {nl} separated "
+                                     f"by commas, got {row.tokens[0]!r}", row, "Line(s)")
+                ids.append(v)
+            vals = []
+            for name, tok in zip(("Tmax0", "Tmean0"), row.tokens[1:3], strict=True):
+                v = parse_number(tok)
+                if v is None or v < 0:
+                    raise self.error(f"field {name!r} of SYROPE IC: expected a tension >= 0 [N], got {tok!r}", row,
+                                     name)
+                vals.append(v)
+            for k in ids:
+                ln = self.model.lines[k - 1]
+                if ln.line_type not in syrope:
+                    log.warning("%s, line %d: line %d does not use the Syrope model; its SYROPE IC values are ignored",
+                                self.file, row.line, k)
+                    continue
+                ln.syrope_ic = (vals[0], vals[1])
 
     def read_bodies(self):
         sec = self.sections.get("BODIES")
@@ -268,6 +365,11 @@ class _Reader:
             rA = (f.pop("Xa"), f.pop("Ya"), f.pop("Za"))
             rB = (f.pop("Xb"), f.pop("Yb"), f.pop("Zb"))
             f["kind"], f["body"] = f["kind"]
+            if f["N"] == 0 and rA != rB:
+                log.warning("%s, line %d: rod %d has NumSegs 0, so it is a zero-length rod: both its ends are at end "
+                            "A (%g, %g, %g) and its axis follows its cables at every step, as in MoorDyn; end B (%g, "
+                            "%g, %g) is not used. A cable clamped at a fixed angle needs a rod with segments",
+                            self.file, row.line, k, *rA, *rB)
             self.model.rods.append(Rod(rA=rA, rB=rB, **f))
             self.rod_rows.append(row)
         self.n_rods = len(self.model.rods)
@@ -512,6 +614,7 @@ def read_deck_text(text: str, path=None, base_dir=None) -> Model:
     rd.read_rods()
     rd.read_points()
     rd.read_lines()
+    rd.read_syrope_ic()
     rd.read_outputs()
     rd.model.source = rd.path
     rd.validate()

@@ -5,8 +5,13 @@ from .system import Model
 from .types import (
     BODY_KIND_WORDS,
     CONTACT_MODES,
+    ELASTIC,
     FRICTION_MODELS,
     POINT_KIND_WORDS,
+    SYROPE,
+    SYROPE_WC_TYPES,
+    VISCO_CONSTANT,
+    VISCO_MEAN,
     Attachment,
     Bathymetry,
     Body,
@@ -22,11 +27,13 @@ from .types import (
     Rod,
     RodKind,
     RodType,
+    SyropeCurve,
     angles_xyz,
     rotation_xyz,
 )
 
-__all__ = ["BODY_KIND_WORDS", "CONTACT_MODES", "FRICTION_MODELS", "POINT_KIND_WORDS", "Attachment", "Bathymetry",
+__all__ = ["BODY_KIND_WORDS", "CONTACT_MODES", "ELASTIC", "FRICTION_MODELS", "SYROPE", "SYROPE_WC_TYPES",
+           "VISCO_CONSTANT", "VISCO_MEAN", "SyropeCurve", "POINT_KIND_WORDS", "Attachment", "Bathymetry",
            "BemRun", "Body", "BodyKind", "Curve", "Environment", "FloatingBody", "Hull", "HydroBodies", "Joint", "Line",
            "LineType",
            "Model", "ModelError", "MorisonStrip", "Options", "Point", "PointKind", "Rod", "RodKind", "RodType",

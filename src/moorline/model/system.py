@@ -21,7 +21,11 @@ import numpy as np
 from .floating import FloatingBody, HydroBodies, Joint, MorisonStrip
 from .types import (
     BODY_KIND_WORDS,
+    ELASTIC,
     POINT_KIND_WORDS,
+    SYROPE,
+    VISCO_CONSTANT,
+    VISCO_MEAN,
     Attachment,
     Body,
     BodyKind,
@@ -36,6 +40,7 @@ from .types import (
     Rod,
     RodKind,
     RodType,
+    SyropeCurve,
 )
 
 
@@ -62,10 +67,23 @@ class Model:
 
     # ------------------------------------------------------------------ builders
     def add_line_type(self, name: str, *, d: float, w: float, EA, BA=0.0, EI=0.0, Cd=0.0, Ca=0.0,
-                      CdAx=0.0, CaAx=0.0, Cl=0.0, dF=0.0, cF=0.0) -> LineType:
-        """Add (or replace) a line type; see :class:`LineType` for the arguments."""
+                      CdAx=0.0, CaAx=0.0, Cl=0.0, dF=0.0, cF=0.0, EA_D=0.0, EA_D_Lm=0.0, BA_D=0.0,
+                      syrope: SyropeCurve | None = None, elastic: int | None = None) -> LineType:
+        """Add (or replace) a line type; see :class:`LineType` for the arguments.
+
+        The axial model follows from the arguments unless ``elastic`` is given: Syrope when
+        ``syrope`` is given (``EA`` is then ignored: the original working curve is the stiffness),
+        viscoelastic with a mean-load dependent dynamic stiffness when ``EA_D_Lm`` is non-zero,
+        with a constant one when ``EA_D`` is non-zero, else elastic."""
+        if elastic is None:
+            elastic = VISCO_MEAN if EA_D_Lm else (VISCO_CONSTANT if EA_D else ELASTIC)
+            if syrope is not None:
+                elastic = SYROPE
+        if syrope is not None:
+            EA = syrope.owc
         lt = LineType(name, float(d), float(w), _num_or_curve(EA), _num_or_curve(BA), _num_or_curve(EI),
-                      float(Cd), float(Ca), float(CdAx), float(CaAx), float(Cl), float(dF), float(cF))
+                      float(Cd), float(Ca), float(CdAx), float(CaAx), float(Cl), float(dF), float(cF), int(elastic),
+                      float(EA_D), float(EA_D_Lm), float(BA_D), syrope)
         self.line_types[name] = lt
         return lt
 
@@ -185,10 +203,11 @@ class Model:
     def rod_ends(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """Deck-pose global positions of the ends A and B of rod ``k`` [m]."""
         rod = self.rods[k]
+        rB = rod.rB if rod.N > 0 else rod.rA  # a zero-length rod has both ends at end A
         if rod.kind in (RodKind.BODY, RodKind.BODY_PINNED):
             b = self.bodies[rod.body]
-            return b.to_global(rod.rA), b.to_global(rod.rB)
-        return rod.rA.copy(), rod.rB.copy()
+            return b.to_global(rod.rA), b.to_global(rB)
+        return rod.rA.copy(), np.array(rB, dtype=float)
 
     @property
     def coupled_points(self) -> list[int]:
@@ -223,9 +242,10 @@ class Model:
                 raise ModelError(f"line type {name!r}: mass per length must be > 0, got {lt.w}")
             if lt.EA_ref <= 0:
                 raise ModelError(f"line type {name!r}: EA must be > 0")
-            for c in ("Cd", "Ca", "CdAx", "CaAx"):
+            for c in ("Cd", "Ca", "CdAx", "CaAx", "Cl", "dF", "cF"):
                 if getattr(lt, c) < 0:
                     raise ModelError(f"line type {name!r}: {c} must be >= 0, got {getattr(lt, c)}")
+            _check_axial_model(name, lt)
         for k, ln in enumerate(self.lines, 1):
             if ln.line_type not in self.line_types:
                 raise ModelError(f"line {k}: unknown line type {ln.line_type!r}")
@@ -242,6 +262,18 @@ class Model:
                     raise ModelError(f"line {k} end {end}: unknown attachment {att}")
             if ln.end_a == ln.end_b:
                 raise ModelError(f"line {k}: both ends attached to {ln.end_a}")
+            lt = self.line_types[ln.line_type]
+            if lt.elastic == SYROPE:
+                if ln.syrope_ic is None:
+                    raise ModelError(f"line {k}: line type {ln.line_type!r} uses the Syrope model, so the line needs "
+                                     "its initial Tmax0 and Tmean0 (a SYROPE IC row)")
+                tmax, tmean = ln.syrope_ic
+                owc = lt.syrope.owc
+                if not owc.y[0] <= tmax <= owc.y[-1]:
+                    raise ModelError(f"line {k}: Syrope Tmax0 = {tmax:g} N is outside the original working curve's "
+                                     f"tension range [{owc.y[0]:g}, {owc.y[-1]:g}] N")
+                if not 0.0 <= tmean <= tmax:
+                    raise ModelError(f"line {k}: Syrope Tmean0 = {tmean:g} N must lie in [0, Tmax0 = {tmax:g}] N")
         for k, rod in enumerate(self.rods, 1):
             if rod.rod_type not in self.rod_types:
                 raise ModelError(f"rod {k}: unknown rod type {rod.rod_type!r}")
@@ -270,8 +302,11 @@ class Model:
                 raise ModelError(f"body {i}: mass, inertia, volume, CdA and Ca must be >= 0")
         self._check_free_rigid()
         self._check_floating()
-        if self.env.rho <= 0 or self.env.g <= 0:
-            raise ModelError("rho and g must be > 0")
+        if not (self.env.rho >= 0 and self.env.g >= 0):  # also refuses NaN
+            raise ModelError(f"rho and g must be >= 0 (0: vacuum, weightless), got rho = {self.env.rho}, "
+                             f"g = {self.env.g}")
+        if self.env.waves is not None and self.env.g <= 0:
+            raise ModelError("waves need gravity: g must be > 0 when waves are given")
         if self.env.depth < 0:
             raise ModelError(f"water depth must be >= 0, got {self.env.depth}")
         from .types import CONTACT_MODES, FRICTION_MODELS
@@ -356,6 +391,44 @@ class Model:
             if rod.kind == RodKind.FREE and rod.N > 0 and self.rod_types[rod.rod_type].w <= 0 and \
                     self.rod_types[rod.rod_type].Ca <= 0:
                 raise ModelError(f"rod {k}: a free rod with no mass and no added mass cannot move")
+
+
+def _check_axial_model(name: str, lt: LineType) -> None:
+    """The viscoelastic and Syrope parameters of line type ``name`` (spec 3.4)."""
+    if lt.elastic not in (ELASTIC, VISCO_CONSTANT, VISCO_MEAN, SYROPE):
+        raise ModelError(f"line type {name!r}: unknown axial model {lt.elastic} (expected 1 to 4)")
+    if lt.elastic == ELASTIC:
+        return
+    what = {VISCO_CONSTANT: "viscoelastic (EA_s|EA_d)", VISCO_MEAN: "viscoelastic (EA_s|EA_Dc|EA_D_Lm)",
+            SYROPE: "Syrope"}[lt.elastic]
+    if isinstance(lt.BA, Curve):
+        raise ModelError(f"line type {name!r}: the {what} model needs BA_s as a number (or -zeta), not a curve")
+    if not lt.BA_D >= 0:
+        raise ModelError(f"line type {name!r}: BA_d must be >= 0 (the dynamic damper takes no ratio), got {lt.BA_D}")
+    if lt.BA == 0.0 and lt.BA_D == 0.0:
+        raise ModelError(f"line type {name!r}: the {what} model needs BA_s + BA_d > 0 (its static-branch stretch "
+                         "rate divides by it)")
+    if lt.elastic == VISCO_CONSTANT:
+        if not lt.EA_D > 0 or lt.EA_D == lt.EA_ref:
+            raise ModelError(f"line type {name!r}: the dynamic stiffness EA_d must be > 0 and differ from the static "
+                             f"EA_s = {lt.EA_ref:g} N, got {lt.EA_D:g} N")
+        return
+    if not lt.EA_D > 0:
+        raise ModelError(f"line type {name!r}: the {what} model needs EA_Dc > 0, got {lt.EA_D:g} N")
+    if lt.elastic == VISCO_MEAN:
+        if lt.EA_D_Lm < 0:
+            raise ModelError(f"line type {name!r}: EA_D_Lm must be >= 0, got {lt.EA_D_Lm}")
+        return
+    if lt.syrope is None:
+        raise ModelError(f"line type {name!r}: the Syrope model needs its settings (SYROPE:<file>)")
+    if not lt.EA_D_Lm > 0:
+        raise ModelError(f"line type {name!r}: the Syrope model needs EA_D_Lm (beta) > 0, got {lt.EA_D_Lm}")
+    lt.syrope.check()
+    owc = lt.syrope.owc
+    z = owc.x - np.log1p(lt.EA_D_Lm * owc.y / lt.EA_D) / lt.EA_D_Lm
+    if np.any(np.diff(z) <= 0) or np.any(np.diff(owc.y) <= 0):
+        raise ModelError(f"line type {name!r}: the Syrope original working curve must have increasing tensions and "
+                         "increasing slow strains x - ln(1 + beta y / alpha) / beta (MoorDyn refuses it too)")
 
 
 def _num_or_curve(v):

@@ -46,6 +46,54 @@ class Curve:
         return np.interp(x, self.x, self.y)
 
 
+#: axial models of a line type (MoorDyn's ElasticMod)
+ELASTIC = 1  # EA a number or a strain-tension curve
+VISCO_CONSTANT = 2  # viscoelastic, constant dynamic stiffness EA_D (EA field EA_s|EA_d)
+VISCO_MEAN = 3  # viscoelastic, dynamic stiffness EA_D + EA_D_Lm * mean tension (EA_s|EA_Dc|EA_D_Lm)
+SYROPE = 4  # Syrope polyester model (SYROPE:<settings>|EA_Dc|EA_D_Lm)
+#: working-curve shapes of the Syrope model
+SYROPE_WC_TYPES = ("LINEAR", "QUADRATIC", "EXP")
+
+
+@dataclass
+class SyropeCurve:
+    """The Syrope model's original working curve and the shape of its working curves (MoorDyn's
+    Syrope settings file, spec 3.4.3).
+
+    Parameters
+    ----------
+    owc : Curve
+        Original working curve: total strain [-] -> tension [N] (increasing).
+    wc_type : {'LINEAR', 'QUADRATIC', 'EXP'}
+        Shape of the working curve below the largest tension seen.
+    k1, k2 : float
+        Shape parameters: LINEAR k1 >= 0 (k1 >= 1 is a stiffness [N]); QUADRATIC 0 <= k1 < 1,
+        0 < k2 <= 1; EXP 0 <= k1 < 1, k2 > 0.
+    source : str
+        Settings file it was read from, for messages.
+    """
+
+    owc: Curve
+    wc_type: str = "LINEAR"
+    k1: float = 0.0
+    k2: float = 0.0
+    source: str = ""
+
+    def check(self) -> None:
+        """Raise :class:`ModelError` when the shape parameters are outside MoorDyn's ranges."""
+        w, k1, k2 = self.wc_type.upper(), self.k1, self.k2
+        where = f"Syrope settings {self.source}".rstrip()
+        if w not in SYROPE_WC_TYPES:
+            raise ModelError(f"{where}: WCType must be one of {SYROPE_WC_TYPES}, got {self.wc_type!r}")
+        if w == "LINEAR" and not k1 >= 0:
+            raise ModelError(f"{where}: a LINEAR working curve needs k1 >= 0, got {k1}")
+        if w == "QUADRATIC" and not (0 <= k1 < 1 and 0 < k2 <= 1):
+            raise ModelError(f"{where}: a QUADRATIC working curve needs 0 <= k1 < 1 and 0 < k2 <= 1, got k1 = {k1}, "
+                             f"k2 = {k2}")
+        if w == "EXP" and not (0 <= k1 < 1 and k2 > 0):
+            raise ModelError(f"{where}: an EXP working curve needs 0 <= k1 < 1 and k2 > 0, got k1 = {k1}, k2 = {k2}")
+
+
 @dataclass
 class LineType:
     """Cross-section properties of a line (one row of LINE TYPES).
@@ -69,6 +117,17 @@ class LineType:
         tangential added-mass coefficients [-].
     Cl, dF, cF : float
         VIV lift coefficient and synchronisation band (MoorDyn columns 11-13).
+    elastic : int
+        Axial model: ``ELASTIC`` (1), ``VISCO_CONSTANT`` (2), ``VISCO_MEAN`` (3) or ``SYROPE`` (4).
+        For 2 and 3, ``EA`` is the static stiffness EA_s; for 4 it is the original working curve.
+    EA_D : float
+        Dynamic stiffness EA_d [N] (model 2), or its constant part alpha = EA_Dc [N] (3 and 4).
+    EA_D_Lm : float
+        Slope beta of the dynamic stiffness with the mean tension [-] (models 3 and 4).
+    BA_D : float
+        Damping [N s] of the dynamic branch (models 2-4); ``BA`` is then the static branch's.
+    syrope : SyropeCurve or None
+        Working-curve settings of the Syrope model (model 4).
     """
 
     name: str
@@ -84,6 +143,11 @@ class LineType:
     Cl: float = 0.0
     dF: float = 0.0
     cF: float = 0.0
+    elastic: int = ELASTIC
+    EA_D: float = 0.0
+    EA_D_Lm: float = 0.0
+    BA_D: float = 0.0
+    syrope: SyropeCurve | None = None
 
     @property
     def A(self) -> float:
@@ -227,7 +291,10 @@ class Rod:
     rA, rB : array_like (3,)
         End positions [m] (global frame; body frame for rods on bodies).
     N : int
-        Number of segments (0: a zero-length rod joining cables).
+        Number of segments (0: a zero-length rod joining cables). As in MoorDyn, a zero-length rod
+        has both ends at end A (``rB`` is not used) and takes its axis from the cables on it at every
+        evaluation, whatever it is attached to: a cable on it is in effect pinned there. A clamp
+        (a cable leaving at a fixed angle) needs a rod with segments.
     outputs : str
         MoorDyn rod output flags.
     body : int or None
@@ -249,11 +316,15 @@ class Rod:
 
     @property
     def length(self) -> float:
+        """|B - A| [m]; 0 for a zero-length rod (N = 0) whatever its end B says, as in MoorDyn."""
+        if self.N == 0:
+            return 0.0
         return float(np.linalg.norm(self.rB - self.rA))
 
     @property
     def axis(self) -> np.ndarray:
-        """Unit vector from end A to end B (zero for a zero-length rod)."""
+        """Unit vector from end A to end B (zero for a zero-length rod, whose axis comes from its
+        cables at run time)."""
         L = self.length
         return (self.rB - self.rA) / L if L > 0 else np.zeros(3)
 
@@ -423,6 +494,9 @@ class Line:
     L: float
     N: int
     outputs: str = ""
+    #: (Tmax0, Tmean0) [N] of a Syrope line: the largest mean tension it has carried and its
+    #: current mean tension (MoorDyn's SYROPE IC section)
+    syrope_ic: tuple[float, float] | None = None
 
 
 @dataclass
@@ -579,6 +653,9 @@ class Options:
     WriteUnits: int = 1
     disableOutput: int = 0
     writeLog: int = 0
+    #: Syrope working curves: one per segment ('segment', moorline), or one per line rebuilt by
+    #: whichever of its segments last raised its largest tension ('line', MoorDyn-C)
+    SyropeWorkingCurve: str = "segment"
     #: options read from a deck that this version does not act on yet, {key: value text}
     not_acted_on: dict[str, str] = field(default_factory=dict)
 

@@ -127,7 +127,7 @@ def _rod_axis(model, k: int, ds: xr.Dataset | None):
     rod = model.rods[k]
     d = np.asarray(rod.rB, dtype=float) - np.asarray(rod.rA, dtype=float)
     n = np.linalg.norm(d)
-    if getattr(rod.kind, "name", "FIXED") == "FIXED" and n > 0.0:
+    if getattr(rod.kind, "name", "FIXED") == "FIXED" and rod.N > 0 and n > 0.0:  # a zero-length rod turns
         return d / n
     return None
 

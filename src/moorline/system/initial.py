@@ -2,11 +2,17 @@
 deck pose, every line on its quasi-static catenary (the start guess), then the static equilibrium
 by one of three strategies:
 
-- Newton statics (``ICNewton 1``, and the default of the implicit scheme): pseudo-transient
-  Newton on the whole system (:func:`moorline.core.statics.newton_statics`), with implicit dynamic
-  relaxation as its fallback for slack, flexible systems far from the start;
+- Newton statics (the default, ``ICNewton -1`` or ``1``): pseudo-transient Newton on the whole
+  system, free points, rods, bodies and slack lines included
+  (:func:`moorline.core.statics.newton_statics`), with implicit dynamic relaxation as its fallback
+  for slack, flexible systems far from the start;
 - MoorDyn's stationary solver (its default, :func:`moorline.core.statics.stationary_solve`);
 - MoorDyn's legacy dynamic relaxation (``ICgenDynamic 1``).
+
+MoorDyn's two methods run when Newton fails (explicit schemes only), or first with ``ICNewton 0``
+(MoorDyn's behaviour). Whatever the method, the residual of the starting state (largest
+acceleration of a free DOF with the velocities at zero) is measured and reported; a start that
+is not at rest is logged as an error (:func:`report_residual`).
 """
 
 from __future__ import annotations
@@ -20,6 +26,18 @@ import numpy as np
 from ..core.implicit import S_AVALID, S_H, S_HJ, advance_implicit, gen_alpha_parameters
 from ..core.integrate import Scheme
 from ..core.layout import ATT_POINT, ATT_ROD_A, P_BODY, P_COUPLED, P_FREE, Layout
+from ..core.linestates import (
+    MODE_RATE,
+    MODE_STATIC,
+    VIS_ELASTIC,
+    VIS_SYROPE,
+    XC_HIST,
+    XC_MODE,
+    XC_VIV,
+    end_line_states,
+    store_line_states,
+)
+from ..core.rhs import rhs
 from ..core.rigid import body_kinematics, body_point_kinematics, rod_kinematics, rod_nodes
 from ..core.seabed import resting_penetration, seabed_at
 from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
@@ -130,7 +148,35 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_
         for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
             row = int(L.node_row[n])
             y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
+        start_line_states(layout, li, out, y)
     return failed
+
+
+def start_line_states(layout: Layout, li: int, nodes: np.ndarray, y: np.ndarray) -> None:
+    """Line states of line ``li`` at the start (spec 6.1, MoorDyn's Line::initialize): the stretch
+    state of a viscoelastic segment is its whole stretch (no initial transient from an unstretched
+    static branch), that of a Syrope segment the working curve's slow strain at Tmean0 times its
+    length; VIV phases are spread over 0..2 pi along the line. ``nodes``: the line's node
+    positions, shape (N + 1, 3)."""
+    L = layout.lines
+    xo = layout.xs_offset
+    s0, s1 = int(L.seg_ptr[li]), int(L.seg_ptr[li + 1])
+    if L.vis[li] != VIS_ELASTIC:
+        ls = np.linalg.norm(np.diff(nodes, axis=0), axis=1)
+        for k, s in enumerate(range(s0, s1)):
+            x = int(L.seg_xs[s])
+            l0 = float(L.seg_l0[s])
+            if L.vis[li] == VIS_SYROPE:
+                wc = L.sy_wc[s]
+                y[xo + x] = l0 * float(np.interp(L.sy_T[s, 1], wc[:, 1], wc[:, 2]))
+            else:
+                y[xo + x] = ls[k] - l0
+    n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
+    N = n1 - n0 - 1
+    for i in range(1, N):
+        x = int(L.node_xs[n0 + i])
+        if x >= 0:
+            y[xo + x] = 2.0 * np.pi * i / N
 
 
 def solve_initial_conditions(sys: System) -> None:
@@ -138,15 +184,83 @@ def solve_initial_conditions(sys: System) -> None:
     (spec 6): Newton statics when asked for (or by default with the implicit scheme), else, or
     when Newton fails with an explicit scheme, MoorDyn's stationary solver or dynamic relaxation.
     Fills ``sys.ic_report``."""
+    L = sys.layout.lines
+    # VIV is off while the initial conditions are found (as in MoorDyn); viscoelastic stretch states
+    # are at rest (condensed) in the static solves, and integrated by dynamic relaxation
+    L.xs_ctl[XC_VIV] = 0.0
+    static = not sys.model.options.ICgenDynamic or sys.scheme == Scheme.GENALPHA or _newton_first(sys)
+    if static:
+        L.xs_ctl[XC_MODE] = MODE_STATIC
+        L.xs_ctl[XC_HIST] = 0.0
+    try:
+        _solve_initial_conditions(sys)
+    finally:
+        if static and L.xs_s0.size > 0:
+            # the line states at rest in the final positions (and the Syrope history there)
+            dy = sys._S[0]
+            L_, R, P, _, B, W, F, FW = sys._kernel_arrays()
+            rhs(0.0, sys.y, dy, L_, R, P, sys.layout.env_ic, B, sys._motion, W, F, FW, 1.0, -1)
+            store_line_states(sys.y, L, R, W, 0.0, True)
+        end_line_states(L)
+        L.xs_ctl[XC_VIV] = 1.0
+
+
+def _newton_first(sys: System) -> bool:
+    """Newton statics is tried first unless ``ICNewton 0`` asks for MoorDyn's methods (the implicit
+    scheme always uses it)."""
+    return sys.model.options.ICNewton != 0 or sys.scheme == Scheme.GENALPHA
+
+
+#: a start is at rest when no free DOF accelerates by more than RESIDUAL_TOL [m/s^2] (1 mm/s^2:
+#: 1e-4 g, a load error of 1e-4 of the node's weight) at zero velocity
+RESIDUAL_TOL = 1e-3
+
+
+def report_residual(sys: System) -> float:
+    """Measure the residual of the starting state (largest acceleration [m/s^2] of a free 3-DOF row
+    or 6-DOF block, translational, with every velocity at zero; the IC water kinematics) into
+    ``sys.ic_report['residual']``, and say loudly when the start is not at rest."""
+    lay = sys.layout
+    n3, n6 = lay.n_rows, lay.n_blocks
+    if n3 + n6 == 0:
+        sys.ic_report["residual"] = 0.0
+        return 0.0
+    y = sys.y.copy()
+    y[lay.u_offset:lay.z_offset] = 0.0
+    dy = np.zeros_like(y)
+    L, R, P, _, B, W, F, FW = sys._kernel_arrays()
+    hist = L.xs_ctl[XC_HIST]
+    L.xs_ctl[XC_HIST] = 0.0
+    rhs(0.0, y, dy, L, R, P, lay.env_ic, B, sys._motion, W, F, FW, 1.0, -1)
+    L.xs_ctl[XC_HIST] = hist
+    uo = lay.u_offset
+    acc = dy[uo:uo + 3 * n3].reshape(-1, 3)
+    blk = dy[uo + 3 * n3:uo + 3 * n3 + 6 * n6].reshape(-1, 6)[:, :3]
+    a = np.linalg.norm(np.vstack([acc, blk]), axis=1)
+    res = float(np.max(a)) if a.size else 0.0
+    where = sys.state_rows()[int(np.argmax(a))] if a.size else ("", 0, 0)
+    sys.ic_report["residual"] = res
+    sys.ic_report["residual_mean"] = float(np.mean(a)) if a.size else 0.0
+    sys.ic_report["residual_at"] = f"{where[0]} {where[1]}" + (f" node {where[2]}" if where[0] == "line" else "")
+    if sys.ic_report.get("converged") is False or res > RESIDUAL_TOL:
+        sys.ic_report["converged"] = False
+        log.error("the run starts from an UNCONVERGED initial state: residual acceleration %.3g m/s^2 at %s (%s); "
+                  "the results begin with a transient. Raise TmaxIC, check the model, or use ICNewton 1",
+                  res, sys.ic_report["residual_at"], sys.ic_report.get("method", "catenary start"))
+    return res
+
+
+def _solve_initial_conditions(sys: System) -> None:
     opts = sys.model.options
     L, R, P, _, B, W, F, FW = sys._kernel_arrays()
     E = sys.layout.env_ic  # waves off, current on (spec 6.1)
     # Newton when asked for, and by default with the implicit scheme or floating bodies (a hull on its
     # hydrostatics is a stiff, lightly damped system that MoorDyn's pseudo-dynamics settle slowly)
-    floating = sys.layout.fl.body.size > 0
-    newton = opts.ICNewton == 1 or (opts.ICNewton == -1 and (sys.scheme == Scheme.GENALPHA or floating))
-    if newton and newton_ic(sys, L, R, P, E, B, W, F, FW):
+    if _newton_first(sys) and newton_ic(sys, L, R, P, E, B, W, F, FW):
         return
+    if opts.ICgenDynamic:
+        L.xs_ctl[XC_MODE] = MODE_RATE  # dynamic relaxation integrates the line states
+        L.xs_ctl[XC_HIST] = 1.0
     if sys.scheme == Scheme.GENALPHA:
         raise SimulationError("Newton statics did not find the initial equilibrium; the implicit scheme has no "
                               "explicit fallback at its step: set ICNewton 0 with an explicit tScheme, or give "

@@ -37,15 +37,23 @@ from ..core.jacobian import (
     S_NSTEP,
 )
 from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
+from ..core.linestates import XC_DTM, XC_HIST
 from ..core.rhs import rhs
+from ..core.schemes import SP_STEPS
 from ..core.seabed import bed_damping_ramp, bed_spring_blend
-from ..core.stability import choose_dtM, stability_report
+from ..core.stability import choose_dtM, segment_period, stability_report
 from ..core.waterkin import fluid_kinematics
 from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
 from .floating import JOINT_PULL, floating_arrays
-from .initial import MAX_NODE_SPEED, catenary_start, quasistatic_equilibrium, solve_initial_conditions
+from .initial import (
+    MAX_NODE_SPEED,
+    catenary_start,
+    quasistatic_equilibrium,
+    report_residual,
+    solve_initial_conditions,
+)
 from .qsmooring import QuasiStaticMooring
 from .views import BodyView, LineView, PointView, RodView
 
@@ -99,6 +107,11 @@ class System:
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
         if not self.dtM > 0:
             raise ValueError(f"dtM must be > 0, got {self.dtM}")
+        if self.scheme == Scheme.LEULER:
+            # each line's update interval: 0.999 CFL times its segment period (MoorDyn's LEuler)
+            cfl = float(model.options.CFL)
+            T = np.array([segment_period(model, self.layout, li) for li in range(len(model.lines))])
+            self.scheme_params = np.concatenate([self.scheme_params, 0.999 * cfl * T, cfl * T])
         if self.scheme == Scheme.GENALPHA:
             ramp = bed_damping_ramp(self.layout)
             blend = bed_spring_blend(self.layout)
@@ -106,11 +119,14 @@ class System:
             self.layout.env_ic = self.layout.env_ic._replace(bed_ramp=ramp, bed_blend=blend)
         # a joint's child is pulled back onto its joint at 0.3 / dtM (see core.floating.floating_motion)
         self.layout.fl.par[1] = JOINT_PULL / self.dtM
+        # VIV refreshes its running RMS values once per time step (core.linestates)
+        self.layout.lines.xs_ctl[XC_DTM] = self.dtM
         self.work = self.layout.new_work()
         self.fwork = self.layout.new_float_work()
         n = self.layout.n_state
         self.y = np.zeros(n)
         self._S = np.zeros((5, n))
+        self._dy_eval = np.zeros(n)
         self._imp = None  # structure and work of the implicit solves, built on first use
         self.t = 0.0
         self._motion = static_motion(self.deck_coupled_positions())
@@ -187,9 +203,17 @@ class System:
         """Evaluate every load at the current state and time (refreshes what the views report).
         ``piece``: the coupled-trajectory piece (that of the step just taken, so the coupled
         velocity at the end of a step is the one imposed during it)."""
-        dy = self._S[0]
         L, R, P, E, B, W, F, FW = self._kernel_arrays()
-        rhs(self.t, self.y, dy, L, R, P, E, B, self._motion, W, F, FW, 1.0, piece)
+        # an evaluation for the views is not a step: the line-state histories (Syrope, VIV) and the
+        # accelerations VIV remembers are left as the last step left them
+        hist = L.xs_ctl[XC_HIST]
+        L.xs_ctl[XC_HIST] = 0.0
+        viv = bool(np.any(L.viv[:, 0] > 0))
+        acc = W.acc.copy() if viv else None
+        rhs(self.t, self.y, self._dy_eval, L, R, P, E, B, self._motion, W, F, FW, 1.0, piece)
+        L.xs_ctl[XC_HIST] = hist
+        if viv:
+            W.acc[...] = acc  # VIV's "previous evaluation" stays the last one of the step
 
     def coupled_forces(self) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
@@ -242,8 +266,9 @@ class System:
             self._qsm.update(self)
             if solve_ic:
                 quasistatic_equilibrium(self)
-        elif solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks > 0:
+        elif solve_ic and opts.TmaxIC > 0 and self.layout.n_rows + self.layout.n_blocks + self.layout.n_line_states > 0:
             solve_initial_conditions(self)
+            report_residual(self)
         if xd is not None:
             self._motion = step_motion(x, xd, 0.0, 1.0)
         self.t = 0.0
@@ -324,6 +349,7 @@ class System:
     def _reset_scheme(self) -> None:
         """Forget what the time scheme carries between steps (after the state was set from outside)."""
         self._S[...] = 0.0  # the fixed-point schemes start without a previous derivative
+        self.scheme_params[SP_STEPS] = 0.0  # Adams-Bashforth start-up, local Euler's first step
         if self._imp is not None:
             st = self._imp[1].stat
             st[S_AVALID] = 0.0
