@@ -7,7 +7,9 @@ standard library and moorline's public API.
 
 from __future__ import annotations
 
+import argparse
 import json
+import logging
 import math
 import platform
 import sys
@@ -198,3 +200,17 @@ class Checks:
             else:
                 lines.append(f"  [{mark}] {c['name']}: {c['value']:.5g} in [{c['lo']:.5g}, {c['hi']:.5g}]")
         return "\n".join(lines)
+
+
+def study_command(doc: str, quick_help: str, here: Path, argv=None) -> tuple[argparse.Namespace, Path]:
+    """The command line the gallery-I studies share: ``--quick`` and ``--out``; makes the output
+    folder (default: beside the script, ``here``), sets up logging; returns (arguments, folder)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help=quick_help)
+    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
+                    "this script)")
+    a = ap.parse_args(argv)
+    out = a.out or here
+    out.mkdir(parents=True, exist_ok=True)
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    return a, out

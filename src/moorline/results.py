@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import tempfile
 from dataclasses import asdict
 from pathlib import Path
 
@@ -23,6 +21,7 @@ import xarray as xr
 from . import __version__
 from .core.layout import FC_NAMES
 from .errors import CheckpointError
+from .io.atomic import atomic_path
 
 
 def model_hash(model) -> str:
@@ -228,18 +227,8 @@ def write_netcdf(ds: xr.Dataset, path, *, unlimited_dims=None) -> Path:
     """Write ``ds`` to ``path`` atomically (a temporary file renamed into place); ``unlimited_dims``
     as xarray's (dimensions a later append may extend)."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, engine="h5netcdf", unlimited_dims=unlimited_dims)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates owner-only files
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 

@@ -19,8 +19,6 @@ See README.md for every assumption.
 
 from __future__ import annotations
 
-import argparse
-import logging
 import sys
 import time
 from pathlib import Path
@@ -182,15 +180,8 @@ def decay_measures(t, x):
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="shortened irregular sea (CI)")
-    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
-                    "this script)")
-    a = ap.parse_args(argv)
     global OUT
-    OUT = a.out or HERE
-    OUT.mkdir(parents=True, exist_ok=True)
-    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    a, OUT = common.study_command(__doc__, "shortened irregular sea (CI)", HERE, argv)
     started = time.perf_counter()
     ds = coefficients()
     chk = common.Checks()

@@ -18,8 +18,6 @@ irregular-sea statistic a looser one). See README.md for every assumption.
 
 from __future__ import annotations
 
-import argparse
-import logging
 import sys
 import time
 from pathlib import Path
@@ -207,15 +205,8 @@ def figures(irr: dict, reg: dict, fd: dict, fds: dict, quick: bool) -> list[Path
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="200 s records (CI)")
-    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
-                    "this script)")
-    a = ap.parse_args(argv)
     global OUT
-    OUT = a.out or HERE
-    OUT.mkdir(parents=True, exist_ok=True)
-    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    a, OUT = common.study_command(__doc__, "200 s records (CI)", HERE, argv)
     started = time.perf_counter()
     stem, deck = rm3_data()
     ds = hydro.read_wamit(stem, rho=RHO, g=G)

@@ -18,9 +18,7 @@ tolerance).
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
-import logging
 import math
 import sys
 import time
@@ -161,15 +159,8 @@ def cable_series(r, lines) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="60 s records, 20 s ramp (CI)")
-    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
-                    "this script)")
-    a = ap.parse_args(argv)
     global OUT
-    OUT = a.out or HERE
-    OUT.mkdir(parents=True, exist_ok=True)
-    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    a, OUT = common.study_command(__doc__, "60 s records, 20 s ramp (CI)", HERE, argv)
     started = time.perf_counter()
     stem, deck = rm3.rm3_data()
     ds = hydro.read_wamit(stem, rho=rm3.RHO, g=rm3.G)

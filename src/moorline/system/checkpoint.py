@@ -39,7 +39,6 @@ import hashlib
 import io
 import json
 import os
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -48,6 +47,7 @@ import numpy as np
 from .. import __version__
 from ..core.layout import Motion
 from ..errors import CheckpointError
+from ..io.atomic import atomic_path
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -152,20 +152,10 @@ def save(system: System, path, *, meta: dict | None = None) -> Path:
             "stability": system.stability, "grid_warned": system._grid_warned, "meta": meta or {}}
     buf = io.BytesIO()
     np.savez(buf, info=np.array(json.dumps(info, default=str)), **arrays)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(buf.getvalue())
-            f.flush()
-            os.fsync(f.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates owner-only files
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(buf.getvalue())
+        f.flush()
+        os.fsync(f.fileno())
     return path
 
 
