@@ -143,6 +143,7 @@ def test_energy_never_grows_without_waves():
     assert E[-1] < 0.8 * E[0]
 
 
+@pytest.mark.slow  # 110 s: the record's excitation is tabulated over its whole repeat period
 def test_an_elevation_record_drives_the_body_like_the_regular_wave_it_records():
     """A user's elevation record (Waves.from_elevation: FFT components, tabulated excitation over
     the record's period) of a regular wave gives the regular wave's steady response within 1e-3
