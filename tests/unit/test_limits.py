@@ -126,3 +126,14 @@ def test_check_warns_and_strict_fails(tmp_path, capsys):
     assert "seabed contact stiffness" in cap.out
     assert "moorline: warning: dtM = 0.004 s is above the estimated stability limit" in cap.err
     assert cli_main(["check", str(stiff), "--strict"]) == 1
+
+
+def test_a_dtic_longer_than_tmaxic_ends_the_relaxation_at_tmaxic():
+    """Fuzzer seed 2, case 63: the wave-energy cable example with dtIC 1e11 s. Newton does not
+    converge from its catenary start, and the implicit relaxation then integrated towards t = dtIC
+    (1e11 one-second steps, a hang) instead of stopping at TmaxIC."""
+    model = read_deck(ROOT / "examples" / "wec_cable" / "wec_cable.dat")
+    model.options.dtIC = 1.0e11
+    s = System(model)
+    s.init()  # returns (within TmaxIC of pseudo time), converged or not
+    assert s.ic_report.get("pseudo_time", 0.0) <= model.options.TmaxIC + 1e-9

@@ -382,7 +382,7 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
     t = 0.0
     try:
         while t < opts.TmaxIC:
-            t_next = t + float(opts.dtIC)
+            t_next = min(t + float(opts.dtIC), float(opts.TmaxIC))  # a dtIC past TmaxIC ends at TmaxIC
             t, status, row, _ = advance_implicit(sys.y, t, t_next, h, A, IW, L, R, P, E, B, sys._motion, W, F, FW,
                                                  MAX_NODE_SPEED, True)
             if status != 0:
