@@ -30,7 +30,7 @@ NEEDS = {"fps": ((), True), "rm3": (("rm3/rm3.1", "rm3/rm3_moorings_moordyn.txt"
          "w4p_cable": (("w4p_scatter.csv",), True)}
 
 
-def _run(study: str, tmp_path: Path, *extra: str) -> dict:
+def _start(study: str, tmp_path: Path, *extra: str) -> subprocess.CompletedProcess:
     files, bem = NEEDS[study]
     missing = [f for f in files if not (SHARED / f).exists()]
     if missing:
@@ -40,8 +40,12 @@ def _run(study: str, tmp_path: Path, *extra: str) -> dict:
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT / "src") + os.pathsep + env.get("PYTHONPATH", "")
     env.setdefault("MPLBACKEND", "Agg")
-    proc = subprocess.run([sys.executable, str(ROOT / "validation" / study / "run.py"), "--quick", "--out",
+    return subprocess.run([sys.executable, str(ROOT / "validation" / study / "run.py"), "--quick", "--out",
                            str(tmp_path), *extra], capture_output=True, text=True, env=env, timeout=1800)
+
+
+def _run(study: str, tmp_path: Path, *extra: str) -> dict:
+    proc = _start(study, tmp_path, *extra)
     assert proc.returncode == 0, f"{study} --quick failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"
     res = json.loads((tmp_path / "results.json").read_text())
     assert res["mode"] == "quick"
@@ -81,7 +85,21 @@ def test_rm3(tmp_path):
 
 
 def test_rm3_umbilical(tmp_path):
-    res = _run("rm3_umbilical", tmp_path)
+    # in two sessions: the first stops at its first checkpoint (20 s of 60), the second resumes
+    first = _start("rm3_umbilical", tmp_path, "--chunk", "20", "--stop-after", "1")
+    assert first.returncode == 3, f"expected a stop at the first checkpoint:\n{first.stdout[-4000:]}\n" \
+                                  f"{first.stderr[-4000:]}"
+    assert "stopped at t = 20 s of 60 s" in first.stdout
+    assert not (tmp_path / "results.json").exists()  # nothing written as if complete
+    res = _run("rm3_umbilical", tmp_path, "--chunk", "20", "--resume")
+    # the resumed record is whole: every output time once, from 0 to 60 s
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "out" / "quick" / "coupled.nc", engine="h5netcdf") as ds:
+        t = ds.time.values
+        assert int(ds.attrs["complete"]) == 1
+    assert t[0] == 0.0 and t[-1] == pytest.approx(60.0) and len(t) == 301
+    assert (t[1:] - t[:-1]).min() > 0.19
     assert _finite(res["top_tension_mean_n"], res["top_tension_max_n"], res["max_curvature_per_m"])
     assert 0 < res["top_tension_mean_n"] < res["top_tension_max_n"]
     # the cable hangs about 60 m of 77.3 kg/m line (wet 52 kg/m): tens of kN at the top

@@ -14,11 +14,26 @@ the spar pose recorded in the coupled run.
 Writes ``results.json`` and ``umbilical_*.png`` beside this script; exits 1 when a check fails.
 ``--quick``: 60 s records with a 20 s ramp (a few minutes; the comparison of the two runs keeps a looser
 tolerance).
+
+The three runs (coupled, the RM3 without the umbilical, one-way) go in chunks of ``--chunk``
+simulated seconds (default 30 s), each ending with a checkpoint (:meth:`moorline.System.save`) and
+its samples appended to a NetCDF file in ``out/<mode>/`` beside the results. ``--stop-after
+SECONDS`` ends the run at the first chunk boundary after that much wall time (at least one chunk
+per invocation; exit code 3, no results written); ``--resume`` continues from the checkpoints
+(the runs already complete are read back), so the 600 s study can proceed across sessions:
+
+    python validation/rm3_umbilical/run.py --stop-after 1800          # then, later:
+    python validation/rm3_umbilical/run.py --resume --stop-after 1800  # ... until it finishes
 """
 
 from __future__ import annotations
 
+import argparse
+import ast
+import hashlib
 import importlib.util
+import json
+import logging
 import math
 import sys
 import time
@@ -37,6 +52,7 @@ from moorline import hydro  # noqa: E402
 from moorline.model import Model  # noqa: E402
 from moorline.model.water import Waves  # noqa: E402
 from moorline.motion import Trajectory  # noqa: E402
+from moorline.results import NetCDFStream  # noqa: E402
 
 _spec = importlib.util.spec_from_file_location("rm3_study", HERE.parent / "rm3" / "run.py")
 rm3 = importlib.util.module_from_spec(_spec)
@@ -115,14 +131,93 @@ def equilibrium_state(make, x0=None) -> moorline.System:
     at a hundredth of it, it does, and the stiffer line differs by its stretch at the static
     tension (about 0.3 m over 137 m), which the first seconds of the run take up (inside the
     30 s wave ramp)."""
-    soft = moorline.System(make(EA_STATICS)[0])
     zero = None if x0 is None else np.zeros_like(x0)
+    soft = moorline.System(make(EA_STATICS)[0])
     soft.init(x0, zero)
-    s = moorline.System(make(EA)[0])
-    s.init(x0, zero, solve_ic=False)
+    s = unsolved_state(make, x0)
     s.y[:] = soft.y
     s.set_state()
     return s
+
+
+def unsolved_state(make, x0=None) -> moorline.System:
+    """A System of ``make(EA)`` initialised without statics (a checkpoint then sets its state)."""
+    s = moorline.System(make(EA)[0])
+    s.init(x0, None if x0 is None else np.zeros_like(x0), solve_ic=False)
+    return s
+
+
+_CHUNKS_RUN = [0]  # chunks simulated by this invocation
+
+
+class Unfinished(Exception):
+    """A run stopped at a chunk boundary by ``--stop-after`` (its checkpoint is kept)."""
+
+
+def study_fingerprint() -> str:
+    """Hash of this script's and validation/rm3/run.py's syntax trees (comments and layout left out)."""
+    h = hashlib.sha256()
+    for f in (Path(__file__).resolve(), HERE.parent / "rm3" / "run.py"):
+        h.update(ast.dump(ast.parse(f.read_text()), annotate_fields=False).encode())
+    return h.hexdigest()[:16]
+
+
+def run_in_chunks(name: str, folder: Path, make_started, make_unsolved, duration: float, *, motion=None,
+                  record_nodes: bool = True, chunk: float, deadline: float | None, settings: dict, resume: bool):
+    """Simulate ``duration`` seconds in chunks of ``chunk`` simulated seconds, each ending with a
+    checkpoint (``<name>.checkpoint.npz``) and its samples appended to ``<name>.nc`` in ``folder``.
+
+    ``resume``: continue from the checkpoint (a complete run is read back); otherwise start afresh.
+    ``settings`` are stored beside the files and must match to resume. ``deadline`` (epoch s): stop
+    at the first chunk boundary after it, raising :class:`Unfinished`. Returns the whole record.
+    """
+    import xarray as xr
+
+    folder.mkdir(parents=True, exist_ok=True)
+    nc, ck, tag = folder / f"{name}.nc", folder / f"{name}.checkpoint.npz", folder / f"{name}.settings.json"
+    text = json.dumps(settings, sort_keys=True)
+    if resume and tag.exists() and tag.read_text() != text:
+        raise SystemExit(f"--resume: {tag} was written with other settings or another version of the study "
+                         f"(stored {tag.read_text()}, now {text}); run without --resume to start over")
+    if not resume or not tag.exists():
+        for f in (nc, ck):
+            f.unlink(missing_ok=True)
+    tag.write_text(text)
+
+    def whole():
+        with xr.open_dataset(nc, engine="h5netcdf") as ds:
+            return ds.load()
+
+    if nc.exists() and ck.exists():
+        with xr.open_dataset(nc, engine="h5netcdf") as ds:
+            done = float(ds.attrs.get("simulated_until", -1.0)) >= duration - 1e-6 and int(ds.attrs["complete"]) == 1
+        if done:
+            print(f"    {name}: complete in {nc}, read back", flush=True)
+            return whole()
+    cursor = None
+    if ck.exists():
+        s = make_unsolved()
+        cursor = s.load(ck).get("outputs", {}).get("netcdf")
+        print(f"    {name}: resumed from {ck} at t = {s.t:g} s", flush=True)
+    else:
+        nc.unlink(missing_ok=True)
+        s = make_started()
+    wall0 = time.perf_counter()
+    t0 = s.t
+    while s.t < duration - 1e-6:
+        # at least one chunk per invocation, so that every session makes progress
+        if deadline is not None and time.time() > deadline and _CHUNKS_RUN[0]:
+            raise Unfinished(f"{name}: stopped at t = {s.t:g} s of {duration:g} s (--stop-after); continue with "
+                             "--resume")
+        step = min(chunk, duration - s.t)
+        stream = NetCDFStream(nc, resume=cursor)
+        moorline.simulate(s, step, motion, dt_out=DT_OUT, progress=False, record_nodes=record_nodes,
+                          writers=[stream], checkpoint=ck, checkpoint_every=step)
+        cursor = stream.cursor()
+        _CHUNKS_RUN[0] += 1
+        print(f"    {name}: t = {s.t:g} s of {duration:g} s ({time.perf_counter() - wall0:.0f} s wall for "
+              f"{s.t - t0:g} s simulated)", flush=True)
+    return whole()
 
 
 def oneway_model(spar_pose0, waves, spar_ref, *, ea: float = EA) -> tuple[Model, list[int]]:
@@ -160,37 +255,69 @@ def cable_series(r, lines) -> dict:
 
 def main(argv=None) -> int:
     global OUT
-    a, OUT = common.study_command(__doc__, "60 s records, 20 s ramp (CI)", HERE, argv)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="60 s records, 20 s ramp (CI)")
+    ap.add_argument("--out", type=Path, default=None, help="folder for results.json and the figures (default: beside "
+                    "this script); the runs' checkpoints and records go to out/<mode>/ in it")
+    ap.add_argument("--chunk", type=float, default=30.0, help="simulated seconds between checkpoints (default 30)")
+    ap.add_argument("--stop-after", type=float, default=None, metavar="SECONDS",
+                    help="stop at the first chunk boundary after this much wall time (exit 3; continue with --resume)")
+    ap.add_argument("--resume", action="store_true", help="continue the runs from their checkpoints in out/<mode>/")
+    a = ap.parse_args(argv)
+    OUT = a.out or HERE
+    OUT.mkdir(parents=True, exist_ok=True)
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     started = time.perf_counter()
+    deadline = None if a.stop_after is None else time.time() + a.stop_after
     stem, deck = rm3.rm3_data()
     ds = hydro.read_wamit(stem, rho=rm3.RHO, g=rm3.G)
     duration, ramp = (QUICK_DURATION, QUICK_RAMP) if a.quick else (600.0, RAMP)
     waves = Waves.jonswap(HS, TP, GAMMA, seed=SEED, n_components=N_COMPONENTS, ramp_time=ramp)
     chk = common.Checks()
+    folder = OUT / "out" / ("quick" if a.quick else "full")
+    settings = {"duration": duration, "ramp": ramp, "dt_out": DT_OUT, "dtM": DTM, "chunk": a.chunk,
+                "study": study_fingerprint(), "moorline": moorline.__version__}
+    runs = {"chunk": a.chunk, "folder": str(folder)}
 
-    # ---------------------------------------------------------------- coupled
-    m, lines = coupled_model(ds, deck, waves)
-    t0 = time.perf_counter()
-    sc = equilibrium_state(lambda ea: coupled_model(ds, deck, waves, ea=ea))
-    rc = moorline.simulate(sc, duration, dt_out=DT_OUT, progress=False)
-    wall_c = time.perf_counter() - t0
-    cab_c = cable_series(rc, lines)
-    spar = rc.body_pose.values[:, 0, :]
-    # ---------------------------------------------------------------- RM3 without the umbilical (its influence)
-    m0, _ = coupled_model(ds, deck, waves, with_cable=False)
-    r0 = moorline.simulate(moorline.System(m0), duration, dt_out=DT_OUT, progress=False, record_nodes=False)
-    # ---------------------------------------------------------------- one-way from the recorded spar pose
-    # the hang-off in body axes as in the coupled model (taking it relative to the recorded start pose
-    # instead moved it by the spar's static offset and sink from the deck pose: +73 N, 0.3 %, on the
-    # mean top tension of the quick run, most of the one-way/coupled difference)
-    spar_ref = np.array(m.bodies[0].r, dtype=float)
-    mo, lines_o = oneway_model(spar[0], waves, spar_ref)
-    traj = Trajectory.from_samples(rc.time.values, spar)
-    so = equilibrium_state(lambda ea: oneway_model(spar[0], waves, spar_ref, ea=ea), traj.position(0.0))
-    t0 = time.perf_counter()
-    ro = moorline.simulate(so, duration, traj, dt_out=DT_OUT, progress=False)
-    wall_o = time.perf_counter() - t0
+    def chunked(name, started_, unsolved, **kw):
+        t0 = time.perf_counter()
+        r = run_in_chunks(name, folder, started_, unsolved, duration, chunk=a.chunk, deadline=deadline,
+                          settings=settings, resume=a.resume, **kw)
+        runs[name] = {"wall_s_this_invocation": time.perf_counter() - t0,
+                      "loop_wall_s_last_chunk": float(r.attrs.get("wall_time_s", float("nan")))}
+        return r
+
+    try:
+        # ------------------------------------------------------------ coupled
+        m, lines = coupled_model(ds, deck, waves)
+        make = lambda ea: coupled_model(ds, deck, waves, ea=ea)  # noqa: E731
+        rc = chunked("coupled", lambda: equilibrium_state(make), lambda: unsolved_state(make))
+        cab_c = cable_series(rc, lines)
+        spar = rc.body_pose.values[:, 0, :]
+
+        # ------------------------------------------------------------ RM3 without the umbilical (its influence)
+        def bare(solve):
+            s0 = moorline.System(coupled_model(ds, deck, waves, with_cable=False)[0])
+            s0.init(solve_ic=solve)
+            return s0
+
+        r0 = chunked("without_umbilical", lambda: bare(True), lambda: bare(False), record_nodes=False)
+        # ------------------------------------------------------------ one-way from the recorded spar pose
+        # the hang-off in body axes as in the coupled model (taking it relative to the recorded start pose
+        # instead moved it by the spar's static offset and sink from the deck pose: +73 N, 0.3 %, on the
+        # mean top tension of the quick run, most of the one-way/coupled difference)
+        spar_ref = np.array(m.bodies[0].r, dtype=float)
+        _, lines_o = oneway_model(spar[0], waves, spar_ref)
+        traj = Trajectory.from_samples(rc.time.values, spar)
+        make_o = lambda ea: oneway_model(spar[0], waves, spar_ref, ea=ea)  # noqa: E731
+        ro = chunked("oneway", lambda: equilibrium_state(make_o, traj.position(0.0)),
+                     lambda: unsolved_state(make_o, traj.position(0.0)), motion=traj)
+    except Unfinished as e:
+        print(f"RM3 umbilical: not finished, no results written: {e}", flush=True)
+        return 3
     cab_o = cable_series(ro, lines_o)
+    wall_c = runs["coupled"]["wall_s_this_invocation"]
+    wall_o = runs["oneway"]["wall_s_this_invocation"]
 
     sel = cab_c["t"] >= ramp
     res = {"top_tension_mean_n": float(cab_c["top_tension"][sel].mean()),
@@ -211,7 +338,7 @@ def main(argv=None) -> int:
            "hang_off_m": HANG_OFF, "anchor_m": (ANCHOR_X, 0.0, -DEPTH),
            "sea": {"Hs_m": HS, "Tp_s": TP, "gamma": GAMMA, "seed": SEED, "components": N_COMPONENTS,
                    "duration_s": duration, "ramp_s": ramp},
-           "case_wall_time_s": {"coupled": wall_c, "oneway": wall_o}}
+           "case_wall_time_s": {"coupled": wall_c, "oneway": wall_o}, "runs": runs}
     d_rms = float(np.sqrt(np.mean((cab_c["top_tension"][sel] - cab_o["top_tension"][sel]) ** 2)))
     res["oneway_vs_coupled_top_tension_rms_difference_n"] = d_rms
     tol = 0.05 if a.quick else 0.03

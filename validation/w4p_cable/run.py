@@ -387,8 +387,10 @@ def main(argv=None) -> int:
                 {**c["design"], "life_years": lt["life_years"], "critical_s_m": lt["critical_s_m"],
                  "critical_theta_deg": lt["critical_theta_deg"],
                  "curvature_max_per_m": float(np.max(o["curvature_max"][keep_mask(o["curvature_max"].size)])),
-                 "tension_max_n": float(np.max(o["tension_max"])), "min_clearance_m": o["min_clearance"],
-                 "cable_z_min_m": o["cable_z_min"]})
+                 "tension_max_n": float(np.max(o["tension_max"])), "tension_min_n": float(np.min(o["tension_min"])),
+                 "min_clearance_m": o["min_clearance"], "cable_z_min_m": o["cable_z_min"],
+                 "periodicity": o["periodicity"], "scheme": o.get("scheme_used", "GenAlpha")})
+    res["cases_with_explicit_fallback"] = sorted(o["label"] for o in allouts if o.get("fallback_reason"))
     res["case_time_s"] = {"this_run_wall": t_cases, "cases_run_now": len(got), "cases_left_for_later": late,
                           "mean_case_wall_stored": float(np.mean([o["wall_time_s"] for o in allouts]))}
     res["checks"], res["comparisons"], res["passed"] = chk.items, chk.comparisons, chk.passed
