@@ -24,7 +24,8 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-CELLS = HERE / "cells"
+CELLS = HERE / "cells"  # the study's run length: 120 s of transient, 5 periods analysed
+CELLS_PAPER = HERE / "cells_1500s"  # --paper-length: 1500 s, 900-1500 s analysed
 #: the per-node arrays kept (node order from the WEC), and the scalar statistics
 ARRAYS = ("s", "theta", "damage_rate", "curvature_max", "curvature_min", "tension_max", "tension_min")
 SCALARS = ("min_clearance", "min_clearance_node", "heave_range", "surge_range", "surge_mean", "pitch_range", "z_mean",
@@ -103,7 +104,7 @@ def read(spec, Hs: float, Tz: float, fingerprint: str, root: Path = CELLS) -> di
     out.update({k: r[k] for k in OPTIONAL if k in r})
     out["label"] = f"{design_name(spec.design)} Hs {Hs:g} Tz {Tz:g}"
     out["design"] = dict(spec.design)
-    out["cell_file"] = str(p.relative_to(HERE))
+    out["cell_file"] = str(p.relative_to(HERE)) if p.is_relative_to(HERE) else str(p)
     return out
 
 

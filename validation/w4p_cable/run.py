@@ -248,14 +248,16 @@ def main(argv=None) -> int:
         [{"w": w, "EI": ei, "L": L} for w in SWEEP["w"] for ei in SWEEP["EI"] for L in SWEEP["L"]]
     sweep = [case("sweep " + cells.design_name(d), d, *SINGLE, None) for d in sweep_designs]
 
-    store = None if a.quick else cells.CELLS
+    # the paper-length cases have their own store (the same cell under another run length is another case)
+    root = cells.CELLS_PAPER if a.paper_length else cells.CELLS
+    store = None if a.quick else root
     results: dict[int, dict] = {}
     if not a.quick and not a.fresh:
-        moved = migrate_old_cache(list(cases.values()), fingerprint)
+        moved = 0 if a.paper_length else migrate_old_cache(list(cases.values()), fingerprint)
         if moved:
             print(f"    {moved} cases moved from {OLD_CACHE} into {cells.CELLS}", flush=True)
         for c in cases.values():
-            r = cells.read(c["spec"], c["Hs"], c["Tz"], fingerprint)
+            r = cells.read(c["spec"], c["Hs"], c["Tz"], fingerprint, root=root)
             if r is not None:
                 results[c["i"]] = {**r, "label": c["spec"].label}
     single = [c for c in cases.values() if (c["Hs"], c["Tz"]) == SINGLE and c["name"] in w4p.DESIGNS]
@@ -355,7 +357,7 @@ def main(argv=None) -> int:
     if a.quick:
         # the committed cell of the single condition, made from the same inputs, is reproduced
         for c in single:
-            ref = cells.read(c["spec"], c["Hs"], c["Tz"], fingerprint)
+            ref = cells.read(c["spec"], c["Hs"], c["Tz"], fingerprint, root=root)
             if ref is None:
                 print(f"    (no committed cell of the {c['name']} design's single condition with these inputs: "
                       "not compared)", flush=True)
