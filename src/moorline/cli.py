@@ -4,6 +4,7 @@
                  [--waves jonswap:Hs=3.5,Tp=7.5,heading=180,seed=1] [--current 1.0@180]
                  [--checkpoint-every S] [--resume CHECKPOINT] [--force] [--vtk]
     moorline vtk RESULT.nc [--out DIR] [--every N]
+    moorline convert IN OUT [--to v1|v2]
     moorline statics DECK [--out DIR] [--quasi-static [--json] [--offset x,y,z,rx,ry,rz] [--friction CB]]
     moorline check DECK [--strict]
     moorline sweep STUDY.yaml [--workers N] [--scheduler ADDRESS] [--out DIR] [--no-resume]
@@ -21,6 +22,7 @@ run's wall time and real-time factor.
 
 ``--vtk`` also writes VTK files for ParaView (``<out>/<base>_vtk/<base>.pvd``, one multiblock file per
 output time; see :mod:`moorline.io.vtk`); ``vtk`` writes them from the NetCDF file of an earlier run.
+``convert`` rewrites a deck in MoorDyn's v2 (default) or v1 layout (see :func:`moorline.io.write_deck`).
 
 ``sweep`` runs a parametric study (see :mod:`moorline.studies`); ``fatigue`` post-processes one run
 (section stress around the cable, rainflow, S-N damage; see :mod:`moorline.post`).
@@ -278,6 +280,22 @@ def cmd_vtk(args) -> int:
     except (OSError, KeyError) as e:
         raise DeckError(f"cannot read results: {e}", file=src) from None
     print(f"moorline {__version__}: wrote {pvd} (open it in ParaView)")
+    return 0
+
+
+def cmd_convert(args) -> int:
+    from .io import read_deck, write_deck
+
+    src, dst = Path(args.input), Path(args.output)
+    if dst.resolve() == src.resolve():
+        raise _ArgumentError(f"OUT must differ from IN ({src}): converting in place would lose the original")
+    model = read_deck(src)
+    try:
+        path = write_deck(model, dst, version=args.to)
+    except ValueError as e:
+        print(f"moorline convert: {src} cannot be written as a MoorDyn {args.to} deck: {e}", file=sys.stderr)
+        return 2
+    print(f"moorline {__version__}: wrote {path} (MoorDyn {args.to} layout)")
     return 0
 
 
@@ -572,6 +590,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--every", type=int, default=1, help="write every N-th output time (default 1: all)")
     p.set_defaults(func=cmd_vtk)
 
+    p = sub.add_parser("convert", help="rewrite a deck in MoorDyn's v2 or v1 layout")
+    p.add_argument("input", metavar="IN", help="MoorDyn deck (v1 or v2)")
+    p.add_argument("output", metavar="OUT", help="deck to write (curve and settings files go beside it)")
+    p.add_argument("--to", choices=("v1", "v2"), default="v2", help="layout to write (default v2)")
+    p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
+    p.set_defaults(func=cmd_convert)
 
     p = sub.add_parser("statics", help="find the initial equilibrium and report it")
     common(p)

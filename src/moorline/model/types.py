@@ -656,6 +656,11 @@ class Options:
     #: Syrope working curves: one per segment ('segment', moorline), or one per line rebuilt by
     #: whichever of its segments last raised its largest tension ('line', MoorDyn-C)
     SyropeWorkingCurve: str = "segment"
+    #: MoorDyn's water-kinematics options as the deck gave them (the waves and current they read are
+    #: in :class:`Environment`); kept so that a deck written back names the same files
+    WaveKin: int = 0
+    Currents: int = 0
+    dtWave: float = 0.25
     #: options read from a deck that this version does not act on yet, {key: value text}
     not_acted_on: dict[str, str] = field(default_factory=dict)
 
