@@ -19,9 +19,13 @@ runs in its own subprocess with a time limit, so a crash or a hang in one run lo
 
 Run by hand::
 
-    PYTHONPATH=src python tests/conformance/public_sweep.py [--out sweep.json] [--only SUBSTRING]
+    PYTHONPATH=src python tests/conformance/public_sweep.py [--out sweep.json] [--only SUBSTRING] [--icnewton 0]
 
-It prints the table (markdown) and writes every figure to the JSON file.
+It prints one line per deck and writes every figure to the JSON file; ``sweep_table.py`` makes the
+markdown table of it. ``--icnewton 0`` starts moorline with MoorDyn's initial-condition methods
+(which stop where MoorDyn's stop), to compare the dynamics from comparable starts.
+``MOORLINE_ALL_FEATURES=1`` in the environment makes every deck use the one all-features kernel
+(compiled once) instead of compiling a specialisation per kind of deck.
 """
 
 from __future__ import annotations
@@ -160,6 +164,8 @@ def run_moorline(deck: Path) -> dict:
         model = read_deck(deck)
     except DeckError as e:
         return {"ok": False, "stage": "parse", "error": str(e)}
+    if os.environ.get("MOORLINE_SWEEP_ICNEWTON"):
+        model.options.ICNewton = int(os.environ["MOORLINE_SWEEP_ICNEWTON"])
     try:
         sysm = System(model, loads_at="last_stage")
         x0 = sysm.deck_coupled_positions()
@@ -280,7 +286,11 @@ def main(argv=None):
     ap.add_argument("--child", nargs=3, metavar=("CODE", "DECK", "OUT"), help=argparse.SUPPRESS)
     ap.add_argument("--out", default="public_sweep.json")
     ap.add_argument("--only", default="")
+    ap.add_argument("--icnewton", type=int, choices=(-1, 0, 1),
+                    help="set every deck's ICNewton in moorline (0: MoorDyn's initial-condition methods only)")
     args = ap.parse_args(argv)
+    if args.icnewton is not None:
+        os.environ["MOORLINE_SWEEP_ICNEWTON"] = str(args.icnewton)
     if args.child:
         _child(*args.child)
         return 0
