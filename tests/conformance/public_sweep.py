@@ -4,8 +4,9 @@ For each deck listed in ``../shared/public_decks/decks.txt``: parse it in moorli
 ``DURATION`` seconds in both codes with a small imposed surge of every coupled object
 (``SURGE`` m, a raised-cosine cycle of ``PERIOD`` s, so the start is at rest), driven as a
 MoorDyn coupling program does (outer step ``DT``: ``Step(x(t), xd(t), t, DT)``), and compare the
-end tensions of every line (``GetLineFairTen`` and the end-A node tension against moorline's
-``fairlead_tension`` / ``anchor_tension``):
+end tensions of every line (against moorline's ``anchor_tension`` / ``fairlead_tension``):
+
+MoorDyn's end tensions are ``GetLineNodeTen`` at nodes 0 and N (``GetLineFairTen`` is the latter).
 
 * initial: after ``Init``, the largest difference over lines and ends relative to the largest
   tension of the deck;
@@ -137,7 +138,10 @@ def run_moordyn(deck: Path) -> dict:
 
 
 def _node_force(md, ln, j):
-    return float(np.linalg.norm(md.GetLineNodeForce(ln, j)))
+    """Tension at node j (GetLineNodeTen; at node N it is GetLineFairTen). Not GetLineNodeForce:
+    that is the net force on the node, weight and seabed contact included, which on a slack or
+    lying end has nothing to do with the tension."""
+    return float(np.linalg.norm(md.GetLineNodeTen(ln, j)))
 
 
 def _motion(x0, idx, t):
@@ -262,6 +266,17 @@ def sweep(decks: list[str], scratch: Path) -> list[dict]:
     return rows
 
 
+def moordyn_again(rows: list[dict], scratch: Path) -> list[dict]:
+    for row in rows:
+        if not row.get("template"):
+            row["moordyn"] = run_one("moordyn", scratch / row["deck"])
+        row.pop("cmp", None)
+        if row["moordyn"].get("ok") and row["moorline"].get("ok"):
+            row["cmp"] = compare(row["moorline"], row["moordyn"])
+        print(_line(row), flush=True)
+    return rows
+
+
 def _line(row) -> str:
     ml, md = row["moorline"], row["moordyn"]
     s = f"{row['deck']}: MoorDyn {'ok' if md.get('ok') else 'FAIL ' + md.get('error', '')[:120]}; moorline "
@@ -286,6 +301,9 @@ def main(argv=None):
     ap.add_argument("--child", nargs=3, metavar=("CODE", "DECK", "OUT"), help=argparse.SUPPRESS)
     ap.add_argument("--out", default="public_sweep.json")
     ap.add_argument("--only", default="")
+    ap.add_argument("--moordyn-again", metavar="SWEEP_JSON",
+                    help="re-run only MoorDyn on every deck of an earlier sweep's JSON and compare again with its "
+                    "moorline results (when only the MoorDyn side of the comparison changed)")
     ap.add_argument("--icnewton", type=int, choices=(-1, 0, 1),
                     help="set every deck's ICNewton in moorline (0: MoorDyn's initial-condition methods only)")
     args = ap.parse_args(argv)
@@ -296,7 +314,10 @@ def main(argv=None):
         return 0
     decks = [d for d in deck_list() if args.only in d]
     with tempfile.TemporaryDirectory() as tmp:
-        rows = sweep(decks, copy_decks(Path(tmp)))
+        if args.moordyn_again:
+            rows = moordyn_again(json.loads(Path(args.moordyn_again).read_text()), copy_decks(Path(tmp)))
+        else:
+            rows = sweep(decks, copy_decks(Path(tmp)))
     Path(args.out).write_text(json.dumps(rows, indent=1))
     return 0
 
