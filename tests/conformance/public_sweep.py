@@ -301,6 +301,7 @@ def main(argv=None):
     ap.add_argument("--child", nargs=3, metavar=("CODE", "DECK", "OUT"), help=argparse.SUPPRESS)
     ap.add_argument("--out", default="public_sweep.json")
     ap.add_argument("--only", default="")
+    ap.add_argument("--decks-from", metavar="FILE", help="run only the decks listed in FILE (one a line)")
     ap.add_argument("--moordyn-again", metavar="SWEEP_JSON",
                     help="re-run only MoorDyn on every deck of an earlier sweep's JSON and compare again with its "
                     "moorline results (when only the MoorDyn side of the comparison changed)")
@@ -313,6 +314,9 @@ def main(argv=None):
         _child(*args.child)
         return 0
     decks = [d for d in deck_list() if args.only in d]
+    if args.decks_from:
+        wanted = {ln.strip() for ln in Path(args.decks_from).read_text().splitlines() if ln.strip()}
+        decks = [d for d in decks if d in wanted]
     with tempfile.TemporaryDirectory() as tmp:
         if args.moordyn_again:
             rows = moordyn_again(json.loads(Path(args.moordyn_again).read_text()), copy_decks(Path(tmp)))
