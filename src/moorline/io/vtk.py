@@ -21,8 +21,9 @@ and the collections ``<base>.pvd`` (the multiblock files) and ``<base>_<kind>.pv
 alone, for readers without multiblock support), each listing every output time. Open
 ``<base>.pvd`` in ParaView; the time slider steps through the run.
 
-Arrays are written base64-encoded, raw (uncompressed), float64, with a UInt64 header: the files
-read back bit for bit (meshio reads them too).
+Arrays are written as VTK's own writer does: inline "binary" (the UInt64 byte-count header and the
+raw little-endian data, each base64-encoded), float64 and int64, uncompressed; the files read back
+bit for bit.
 """
 
 from __future__ import annotations
@@ -50,7 +51,8 @@ def _array(name: str | None, a, ncomp: int = 1) -> str:
         a, vt = a.astype("<i8"), "Int64"
     raw = a.tobytes()
     head = np.array([len(raw)], dtype="<u8").tobytes()
-    data = base64.b64encode(head + raw).decode("ascii")
+    # header and data encoded as two base64 blocks, as VTK's own writer (and MoorDyn's) does
+    data = (base64.b64encode(head) + base64.b64encode(raw)).decode("ascii")
     nm = f" Name={quoteattr(name)}" if name else ""
     return (f'<DataArray type="{vt}"{nm} NumberOfComponents="{ncomp}" format="binary">\n{data}\n'
             "</DataArray>\n")
