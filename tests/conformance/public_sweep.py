@@ -10,8 +10,8 @@ MoorDyn's end tensions are ``GetLineNodeTen`` at nodes 0 and N (``GetLineFairTen
 
 * initial: after ``Init``, the largest difference over lines and ends relative to the largest
   tension of the deck;
-* dynamic: per line end, the RMS over the outer samples of the difference, relative to the RMS
-  of MoorDyn's tension; the worst line end is reported.
+* dynamic: per line end, the RMS over the outer samples after Init of the difference, relative to
+  the RMS of MoorDyn's tension; the worst line end is reported.
 
 Decks are copied to a scratch folder first (MoorDyn writes its outputs next to the deck) and
 each run starts in the folder MoorDyn's own tests start in (the one holding ``Mooring/``; else
@@ -237,8 +237,10 @@ def compare(ml: dict, md: dict) -> dict:
     # judged against FLOOR of it (a slack end's relative error says nothing)
     scale = max(float(np.max(np.abs(b))), 1e-9)
     init = float(np.max(np.abs(a[0] - b[0]) / np.maximum(np.abs(b[0]), FLOOR * scale)))
-    rms_d = np.sqrt(np.mean((a - b) ** 2, axis=0))
-    rms_b = np.sqrt(np.mean(b ** 2, axis=0))
+    # the dynamic measure leaves out the sample at Init: it is the initial measure's, and MoorDyn
+    # reports zero tensions there when it did not solve initial conditions (TmaxIC 0)
+    rms_d = np.sqrt(np.mean((a[1:] - b[1:]) ** 2, axis=0))
+    rms_b = np.sqrt(np.mean(b[1:] ** 2, axis=0))
     rel = rms_d / np.maximum(rms_b, FLOOR * scale)
     worst = np.unravel_index(int(np.argmax(rel)), rel.shape)
     return {"initial": init, "dynamic": float(rel[worst]), "worst": [int(worst[0]) + 1, "AB"[worst[1]]],
@@ -305,6 +307,8 @@ def main(argv=None):
     ap.add_argument("--moordyn-again", metavar="SWEEP_JSON",
                     help="re-run only MoorDyn on every deck of an earlier sweep's JSON and compare again with its "
                     "moorline results (when only the MoorDyn side of the comparison changed)")
+    ap.add_argument("--recompare", metavar="SWEEP_JSON",
+                    help="compare again the tensions stored in an earlier sweep's JSON (no run)")
     ap.add_argument("--icnewton", type=int, choices=(-1, 0, 1),
                     help="set every deck's ICNewton in moorline (0: MoorDyn's initial-condition methods only)")
     args = ap.parse_args(argv)
@@ -312,6 +316,14 @@ def main(argv=None):
         os.environ["MOORLINE_SWEEP_ICNEWTON"] = str(args.icnewton)
     if args.child:
         _child(*args.child)
+        return 0
+    if args.recompare:
+        rows = json.loads(Path(args.recompare).read_text())
+        for row in rows:
+            row.pop("cmp", None)
+            if row["moordyn"].get("ok") and row["moorline"].get("ok"):
+                row["cmp"] = compare(row["moorline"], row["moordyn"])
+        Path(args.out).write_text(json.dumps(rows, indent=1))
         return 0
     decks = [d for d in deck_list() if args.only in d]
     if args.decks_from:
