@@ -202,7 +202,7 @@ _POINT_REF = re.compile(r"(?:P|POINT|C|CON)?(\d+)")
 _ROD_REF = re.compile(r"(?:R|ROD)(\d+)([AB]?)")
 
 
-def _attachment(tok, rd):
+def attachment_of(tok, rd):
     up = tok.upper()
     m = _POINT_REF.fullmatch(up)
     if m:
@@ -345,14 +345,14 @@ BODY_COLUMNS = (
 )
 LINE_COLUMNS = (
     _c("ID", "(#)", _whole), _c("LineType", "(name)", _word, "line_type"),
-    _c("AttachA", "(#)", _attachment, "end_a"), _c("AttachB", "(#)", _attachment, "end_b"),
+    _c("AttachA", "(#)", attachment_of, "end_a"), _c("AttachB", "(#)", attachment_of, "end_b"),
     _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
     _c("LineOutputs", "(-)", _flags, "outputs"),
 )
 LINE_COLUMNS_V1 = (
     _c("Line", "(#)", _whole, "ID"), _c("LineType", "(name)", _word, "line_type"),
     _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
-    _c("NodeAnch", "(#)", _attachment, "end_a"), _c("NodeFair", "(#)", _attachment, "end_b"),
+    _c("NodeAnch", "(#)", attachment_of, "end_a"), _c("NodeFair", "(#)", attachment_of, "end_b"),
     _c("Flags/Outputs", "(-)", _flags, "outputs"),
 )
 
