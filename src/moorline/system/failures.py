@@ -32,6 +32,7 @@ import numpy as np
 from ..core.linestates import LINE_HISTORY
 from ..model import Attachment, Failure, Point, PointKind
 from ..model.system import check_failure
+from .views import PointView
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -158,11 +159,8 @@ def release(sys: System, att: Attachment, lines, *, new_point: str = "massless",
 def _rebuild(sys: System, model) -> None:
     """Give ``sys`` the layout of ``model`` (the same lines, rods and bodies, points added at the
     end) with its state and histories carried over."""
-    from .runtime import System
-    from .views import PointView
-
     old_lay, old_y, old_rows, old_work = sys.layout, sys.y, sys.state_rows(), sys.work
-    fresh = System(model, dtM=sys.dtM, scheme=sys._scheme_name, loads_at=sys.loads_at, _floating=sys._floating)
+    fresh = type(sys)(model, dtM=sys.dtM, scheme=sys._scheme_name, loads_at=sys.loads_at, _floating=sys._floating)
     lay = fresh.layout
     # the sea, its excitation and the seabed state are those of the running system (a random sea is
     # not drawn again); external water kinematics gain the new points' rows
