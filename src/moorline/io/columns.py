@@ -10,6 +10,7 @@ import logging
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..model import (
@@ -103,6 +104,16 @@ def _nsegs(tok, rd=None):
 
 def _word(tok, rd=None):
     return tok
+
+
+def _state_file(tok, rd=None):
+    p = (rd.base_dir if rd is not None else Path.cwd()) / tok
+    if not p.is_file():
+        # MoorDyn's own test decks name state files they do not ship (and MoorDyn-C 2.7 runs them)
+        log.warning("%s: fileIC names %s, which does not exist; the initial conditions are found without it",
+                    rd.file if rd is not None else "deck", p)
+        return None
+    return str(p)
 
 
 def _flags(tok, rd=None):
@@ -407,6 +418,7 @@ OPTION_TABLE = (
     ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
     ("ICNewton", (), "options", "ICNewton", _auto01),
     ("dtOut", (), "options", "dtOut", _nonneg),
+    ("fileIC", ("ICfile",), "options", "fileIC", _state_file),
     ("SyropeWorkingCurve", (), "options", "SyropeWorkingCurve", _choice("segment", "line")),
     ("WriteUnits", (), "options", "WriteUnits", _flag01),
     ("disableOutput", (), "options", "disableOutput", _flag01),
@@ -430,7 +442,6 @@ def _never(v, opts):
 #: ``model.options.not_acted_on`` with one warning.
 NOT_ACTED_ON = {
     "UnifyCurrentGrid": ((), _equals(1.0)),
-    "fileIC": (("ICfile",), _never),
     "disableOutTime": ((), _always),
     "WaterKin": ((), _never),
     "inertialF": ((), _equals(0.0)),

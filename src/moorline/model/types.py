@@ -677,6 +677,9 @@ class Options:
     #: method (ICgenDynamic), -1 automatic (Newton with the implicit GenAlpha scheme)
     ICNewton: int = -1
     dtOut: float = 0.0
+    #: MoorDyn's saved state (a MoorDyn-C SaveState file) to start from, read after the catenary
+    #: start and before the initial-condition solve (None: none)
+    fileIC: str | None = None
     WriteUnits: int = 1
     disableOutput: int = 0
     writeLog: int = 0

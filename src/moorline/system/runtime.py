@@ -57,6 +57,7 @@ from .initial import (
     quasistatic_equilibrium,
     report_residual,
     solve_initial_conditions,
+    start_from_moordyn_state,
 )
 from .limits import check_model
 from .qsmooring import QuasiStaticMooring
@@ -289,6 +290,8 @@ class System:
                         CatenaryStatus(status).name.lower())
         self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
+        if opts.fileIC and self._qsm is None:
+            start_from_moordyn_state(self, opts.fileIC)  # after the catenary start, before the IC solve (spec 6.1)
         if self._qsm is not None:
             self._evaluate()
             self._qsm.update(self)
