@@ -417,6 +417,7 @@ OPTION_TABLE = (
     ("threshIC", ("ICthresh",), "options", "threshIC", _pos),
     ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
     ("ICNewton", (), "options", "ICNewton", _auto01),
+    ("ClampMoment", (), "options", "ClampMoment", _flag01),
     ("dtOut", (), "options", "dtOut", _nonneg),
     ("fileIC", ("ICfile",), "options", "fileIC", _state_file),
     ("SyropeWorkingCurve", (), "options", "SyropeWorkingCurve", _choice("segment", "line")),

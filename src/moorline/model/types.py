@@ -677,6 +677,9 @@ class Options:
     #: method (ICgenDynamic), -1 automatic (Newton with the implicit GenAlpha scheme)
     ICNewton: int = -1
     dtOut: float = 0.0
+    #: the bending moment of a cable clamped to a rod acts on the rod (1, moorline) or is not passed
+    #: to it (0, MoorDyn-C 2.7)
+    ClampMoment: int = 1
     #: MoorDyn's saved state (a MoorDyn-C SaveState file) to start from, read after the catenary
     #: start and before the initial-condition solve (None: none)
     fileIC: str | None = None
