@@ -266,3 +266,67 @@ def test_failure_errors():
         s.break_line(0, "C")
     with pytest.raises(ValueError, match="time and tension must be > 0"):
         s.add_failure("P3", [0], time=-1.0)
+
+
+def test_failure_with_the_implicit_scheme():
+    """GenAlpha: the failure time is reached exactly and the dropped clump falls as Newton says
+    (a constant acceleration is integrated exactly by the scheme; to 1e-6 m)."""
+    s = System(read_deck_text(DROP.replace("RK4           tScheme", "GenAlpha      tScheme")
+                              .replace("0.0005        dtM", "0.01          dtM")))
+    s.init()
+    z0 = s.points[1].position()[2]
+    for k in range(10):
+        s.step(None, None, k * DT, DT)
+    ev = s.failures[0]
+    assert ev.trigger == "time" and abs(ev.time - 0.5) < 1e-9 and s.solver_stats["steps"] > 0
+    a = G * (5000.0 - RHO * 0.5) / (5000.0 + 0.8 * RHO * 0.5)
+    assert s.points[1].position()[2] == pytest.approx(z0 - 0.5 * a * (s.t - 0.5) ** 2, abs=1e-6)
+
+
+def test_failure_in_simulate_and_on_a_body_point():
+    """simulate() with a FAILURE section (time series keep the deck's points), and a line released
+    from a point on a coupled body: its new point starts at the body point's global position."""
+    import moorline
+
+    ds = moorline.simulate(System(read_deck_text(DROP)), duration=1.0, dt_out=0.25, progress=False)
+    assert ds.sizes["point"] == 2
+    ten = ds.line_tension_b.sel(line=1).values
+    assert ten[0] > 20e3 and ten[-1] < 1e3  # the clump's weight, then only the end node's
+    deck = VEE.format(failure="").replace(
+        "3     Free      0       0       -50     2000   0       1.0    1.0",
+        "3     Body1     0       0       -5      0      0       0      0").replace(
+        "---------------------- POINT PROPERTIES",
+        "---------------------- BODIES ----\nID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca\n"
+        "(#) (-) (m) (m) (m) (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)\n"
+        "1 Coupled 0 0 -45 0 0 30 0 0 0 0 0 0\n---------------------- POINT PROPERTIES")
+    s = System(read_deck_text(deck))
+    x = np.array([0.0, 0.0, -45.0, 0.0, 0.0, math.radians(30.0)])
+    s.init(x, np.zeros(6))
+    where = s.points[2].position()
+    assert np.allclose(where, [0.0, 0.0, -50.0])
+    k = s.break_line(0, "B")
+    assert k == 3 and np.allclose(s.points[3].position(), where, atol=1e-12)
+    for k in range(3):
+        s.step(x, np.zeros(6), k * DT, DT)
+    # the released end falls away from the body point; line 2 stays on it
+    assert np.linalg.norm(s.lines[0].node_positions()[-1] - s.points[2].position()) > 0.01
+    assert np.allclose(s.lines[1].node_positions()[-1], s.points[2].position(), atol=1e-12)
+    assert np.allclose(s.lines[0].node_positions()[-1], s.points[3].position(), atol=1e-12)
+
+
+def test_tension_checks_inside_a_long_step():
+    """failure_check_interval: within one long step the load is checked every 0.05 s, and the
+    failure happens at the first check where it is reached (the same as stepping 0.05 s at a time)."""
+    s = _vee()
+    loads = []
+    for k in range(16):
+        s.step(None, None, k * 0.05, 0.05)
+        loads.append(s.lines[0].fairlead_tension())
+    threshold = 0.5 * (min(loads) + max(loads))
+    first = next(k for k, v in enumerate(loads) if v >= threshold)
+    s = _vee()
+    s.failure_check_interval = 0.05
+    ev = s.add_failure("P3", [0], tension=threshold)
+    s.step(None, None, 0.0, 0.8)
+    assert ev.trigger == "tension" and abs(ev.time - 0.05 * (first + 1)) < 1e-9
+    assert ev.load == pytest.approx(loads[first], rel=1e-12)
