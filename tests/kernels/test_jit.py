@@ -197,3 +197,56 @@ def test_work_with_features_dispatches_fast():
 @njit(cache=False)
 def _first_row(x, w):
     return x[0]
+
+
+def test_compile_returns_the_entry_point_that_fastcall_relies_on():
+    """``Dispatcher.compile`` returns the compiled entry point (FastCall calls it directly); if a
+    numba release changes that, this fails rather than FastCall silently falling back."""
+    from moorline.core.jit import compile_for
+
+    f = njit(cache=False)(lambda a, x: a[0] * x)
+    fn = compile_for(f, (np.ones(2), 2.0))
+    assert callable(fn) and fn is not f
+    assert fn(np.full(2, 3.0), 2.0) == 6.0
+
+
+def test_fastcall_retypes_when_an_argument_changes_type():
+    from moorline.core.jit import FastCall
+
+    f = njit(cache=False)(lambda t, x: t.a.sum() + x)
+    call = FastCall()
+    t1 = _Arrays(np.ones(3), np.ones(2))
+    assert call(f, (t1, 1.0)) == 4.0
+    assert call(f, (t1, 2.0)) == 5.0  # same objects, new scalar value: kept entry point
+    kept = call._fn
+    assert call(f, (t1, 2)) == 5.0  # an int where a float was: typed afresh
+    t2 = _Arrays(np.ones((2, 2)), np.ones(2))  # a 2-d array where a 1-d one was
+    assert call(f, (t2, 1.0)) == 5.0
+    assert call._fn is not kept
+    assert len(f.signatures) == 3
+
+
+def test_step_out_and_fast_path_give_the_dispatcher_s_answer():
+    """``System.step`` (FastCall, in-place trajectory, ``out=``) against the same steps through
+    numba's ordinary dispatch: bitwise equal."""
+    deck = EXAMPLES / "catenary_3line" / "catenary_3line.dat"
+    a = System.from_file(deck)
+    b = System.from_file(deck)
+    x0 = a.deck_coupled_positions()
+    a.init(x0)
+    b.init(x0)
+    out = np.empty(a.n_coupled_dof)
+    from moorline.core.layout import step_motion
+    for k in range(5):
+        x = x0 + 0.1 * k
+        xd = np.full_like(x0, 10.0)
+        fa = a.step(x, xd, 0.01 * k, 0.01, out=out)
+        assert fa is out
+        mo = step_motion(x, xd, b.t, 0.01)
+        b._motion = mo
+        kernel, args = b._advance_call(mo, b.t + 0.01)
+        b.t = kernel(*args)[0]
+        np.testing.assert_array_equal(fa, b.coupled_forces())
+    np.testing.assert_array_equal(a.y, b.y)
+    with pytest.raises(ValueError, match="coupled DOF"):
+        a.step(x0[:-1], None, a.t, 0.01)

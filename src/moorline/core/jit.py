@@ -19,6 +19,9 @@ numba stops accepting it or when it stops removing the reference counting.
 
 from __future__ import annotations
 
+import operator
+
+import numpy as np
 from numba import njit, typeof
 
 #: options of every kernel (see the module docstring)
@@ -49,7 +52,56 @@ def kernel(fn=None, *, inline: str = "never"):
     return njit(**opts)(fn)
 
 
-def compile_for(dispatcher, args) -> None:
+def compile_for(dispatcher, args):
     """Compile ``dispatcher`` (or load it from numba's cache) for the types of ``args``, without
-    running it: the specialisation a later ``dispatcher(*args)`` call uses."""
-    dispatcher.compile(tuple(typeof(a) for a in args))
+    running it: the specialisation a later ``dispatcher(*args)`` call uses. Returns its compiled
+    entry point (what :meth:`numba.core.dispatcher.Dispatcher.compile` returns)."""
+    return dispatcher.compile(tuple(typeof(a) for a in args))
+
+
+class FastCall:
+    """Calls of one kernel with the same argument objects, step after step, without numba's
+    per-call type dispatch.
+
+    A dispatcher call types every argument before it runs (``numba.typeof``, in Python for
+    tuples): for the time loop's eight NamedTuples of some 210 arrays that is about 30 us per call,
+    three times the unboxing itself. A coupled host calls ``step`` thousands of times per simulated
+    minute, so the entry point of the compiled specialisation is kept and called directly for as
+    long as the arguments are the same objects (same arrays, same NamedTuples) and the scalars
+    have the same Python types: then their numba types cannot have changed. Any other call types
+    its arguments afresh. The kept arguments hold their objects alive, so an ``id`` cannot be
+    reused by another object while it is a key.
+
+    ``Dispatcher.compile(signature)`` is public; that it returns the entry point is checked by
+    ``tests/kernels/test_jit.py``, which fails if a numba release changes it.
+    """
+
+    __slots__ = ("_dispatcher", "_fn", "_objs", "_types", "_get_objs", "_get_scalars", "_n")
+
+    def __init__(self):
+        self._dispatcher = None
+        self._fn = None
+
+    def _same(self, dispatcher, args) -> bool:
+        if dispatcher is not self._dispatcher or len(args) != self._n:
+            return False
+        if not all(map(operator.is_, self._get_objs(args), self._objs)):
+            return False
+        return tuple(map(type, self._get_scalars(args))) == self._types
+
+    def __call__(self, dispatcher, args):
+        if self._fn is None or not self._same(dispatcher, args):
+            fn = compile_for(dispatcher, args)
+            if not callable(fn):  # (a numba that no longer returns the entry point: dispatch as usual)
+                fn = dispatcher
+            objs = [i for i, a in enumerate(args) if isinstance(a, (tuple, np.ndarray))]
+            scalars = [i for i in range(len(args)) if i not in objs]
+            # itemgetter of one index returns the item, not a 1-tuple: pad with a fixed index
+            self._get_objs = operator.itemgetter(*objs, *objs[:1]) if objs else (lambda a: ())
+            self._get_scalars = operator.itemgetter(*scalars, *scalars[:1]) if scalars else (lambda a: ())
+            self._objs = self._get_objs(args)  # held: their ids cannot be reused while kept
+            self._types = tuple(map(type, self._get_scalars(args)))
+            self._n = len(args)
+            self._dispatcher = dispatcher
+            self._fn = fn
+        return self._fn(*args)

@@ -37,7 +37,7 @@ from ..core.jacobian import (
     S_NSLOW,
     S_NSTEP,
 )
-from ..core.jit import compile_for
+from ..core.jit import FastCall, compile_for
 from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
 from ..core.linestates import XC_DTM, XC_HIST
 from ..core.rhs import rhs
@@ -141,6 +141,13 @@ class System:
         self._imp = None  # structure and work of the implicit solves, built on first use
         self.t = 0.0
         self._motion = static_motion(self.deck_coupled_positions())
+        # the coupling step's trajectory, filled in place by step() (no allocation per call)
+        nc = self.layout.n_coupled_dof
+        self._step_motion = Motion(np.zeros(2), np.zeros((1, nc, 4)))
+        self._deck_x = self.deck_coupled_positions()
+        self._gather = self._coupled_gather()
+        self._call_advance = FastCall()
+        self._call_rhs = FastCall()
         self.lines = [LineView(self, i) for i in range(len(model.lines))]
         self.points = [PointView(self, i) for i in range(len(model.points))]
         self.rods = [RodView(self, i) for i in range(len(model.rods))]
@@ -242,25 +249,40 @@ class System:
         L.xs_ctl[XC_HIST] = 0.0
         viv = bool(np.any(L.viv[:, 0] > 0))
         acc = W.acc.copy() if viv else None
-        rhs(self.t, self.y, self._dy_eval, L, R, P, E, B, self._motion, W, F, FW, 1.0, piece)
+        self._call_rhs(rhs, (self.t, self.y, self._dy_eval, L, R, P, E, B, self._motion, W, F, FW, 1.0, int(piece)))
         L.xs_ctl[XC_HIST] = hist
         if viv:
             W.acc[...] = acc  # VIV's "previous evaluation" stays the last one of the step
 
-    def coupled_forces(self) -> np.ndarray:
-        """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
-        of coupled bodies and rods (3 forces when pinned), the net force of coupled points."""
+    def _coupled_gather(self) -> list[tuple[str, int, int, int]]:
+        """Where each coupled object's loads are in the Work arrays: (field, row, count, offset
+        in the coupled-DOF vector)."""
         lay = self.layout
-        if lay.n_coupled_dof == 0:
-            return np.zeros(0)
-        W = self.work
         out = []
+        o = 0
         for i in lay.coupled_bodies:
-            out.append(W.b6F[i, :6 if lay.rigid.body_kind[i] == int(BodyKind.COUPLED) else 3])
-        for k in lay.coupled_rods:
-            out.append(W.rod6F[k, :6 if lay.rigid.rod_kind[k] == int(RodKind.COUPLED) else 3])
-        out += [W.pF[p] for p in lay.coupled_points]
-        return np.concatenate(out)
+            k = 6 if lay.rigid.body_kind[i] == int(BodyKind.COUPLED) else 3
+            out.append(("b6F", int(i), k, o))
+            o += k
+        for r in lay.coupled_rods:
+            k = 6 if lay.rigid.rod_kind[r] == int(RodKind.COUPLED) else 3
+            out.append(("rod6F", int(r), k, o))
+            o += k
+        for p in lay.coupled_points:
+            out.append(("pF", int(p), 3, o))
+            o += 3
+        return out
+
+    def coupled_forces(self, out: np.ndarray | None = None) -> np.ndarray:
+        """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
+        of coupled bodies and rods (3 forces when pinned), the net force of coupled points.
+        ``out``: a float array of n_coupled_dof values to write them into (returned)."""
+        if out is None:
+            out = np.empty(self.layout.n_coupled_dof)
+        W = self.work
+        for field, i, k, o in self._gather:
+            out[o:o + k] = getattr(W, field)[i, :k]
+        return out
 
     # ------------------------------------------------------------------ init
     def init(self, x=None, xd=None, *, solve_ic: bool = True) -> np.ndarray:
@@ -344,27 +366,33 @@ class System:
             log.info(text)
 
     # ------------------------------------------------------------------ stepping
-    def step(self, x, xd, t: float, dt: float) -> np.ndarray:
+    def step(self, x, xd, t: float, dt: float, *, out: np.ndarray | None = None) -> np.ndarray:
         """Advance from ``t`` to ``t + dt`` with the coupled DOFs at ``x + xd (tau - t)``.
 
         Returns the forces on the coupled DOFs at the end of the step [N]. With ``dt <= 0``
-        nothing is integrated and the current forces are returned.
+        nothing is integrated and the current forces are returned. ``out``: a float array of
+        n_coupled_dof values the forces are written into (and returned), for hosts that call
+        this thousands of times: the call then allocates nothing.
         """
         if not self.initialized:
             raise RuntimeError("call init() before step()")
-        x = self._check_dof(x, "x")
-        xd = self._check_dof(xd, "xd")
-        if x is None:
-            x = self.deck_coupled_positions()
+        mo = self._step_motion
+        c = mo.c
+        c[0, :, 0] = self._deck_x if x is None else self._check_dof(x, "x")
         if xd is None:
-            xd = np.zeros(self.n_coupled_dof)
-        self.t = float(t)
+            c[0, :, 1] = 0.0
+        else:
+            c[0, :, 1] = self._check_dof(xd, "xd")
+        self.t = t = float(t)
+        dt = float(dt)
+        mo.t[0] = t
+        mo.t[1] = t + max(dt, 1e-300)
         if dt <= 0:
-            self._motion = step_motion(x, xd, self.t, 0.0)
+            self._motion = mo
             self._evaluate()
-            return self.coupled_forces()
-        self._advance(step_motion(x, xd, self.t, dt), self.t + dt)
-        return self.coupled_forces()
+            return self.coupled_forces(out)
+        self._advance(mo, t + dt)
+        return self.coupled_forces(out)
 
     def advance_to(self, t_end: float, motion: Motion) -> None:
         """Integrate to ``t_end`` [s] following the coupled trajectory ``motion`` (compiled loop)."""
@@ -507,7 +535,7 @@ class System:
         W = self.work
         last_stage = self.loads_at == "last_stage"
         if self.scheme == Scheme.GENALPHA:
-            t, status, row, piece = kernel(*args)
+            t, status, row, piece = self._call_advance(kernel, args)
             self.t = t
             if status == 1:
                 raise self._instability(t, int(row), "")
@@ -515,7 +543,7 @@ class System:
                 raise self._newton_failure(t, int(row))
             self._check_grid()
             return
-        t, bad, _, piece = kernel(*args)
+        t, bad, _, piece = self._call_advance(kernel, args)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
