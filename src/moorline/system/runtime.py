@@ -157,11 +157,11 @@ class System:
         self.ic_report: dict = {}
         #: quasi-static mode: the lines are re-solved and re-linearised every qs_interval [s]
         self.qs_interval = float(qs_interval) if qs_interval is not None else max(self.dtM, 0.02)
-        #: line failures (the model's, and those added by :meth:`add_failure` and :meth:`break_line`),
-        #: pending or happened (:class:`moorline.system.failures.FailureEvent`)
         if model.failures and mooring == "quasistatic":
             raise ValueError("line failures (a FAILURE section) need the dynamic mooring; the quasi-static mode "
                              "(mooring='quasistatic') does not support them")
+        #: line failures (the model's, and those added by :meth:`add_failure` and :meth:`break_line`),
+        #: pending or happened (:class:`moorline.system.failures.FailureEvent`)
         self.failures = [FailureEvent(f) for f in model.failures]
         #: what the free point of a failure is: "massless" (MoorDyn's documented failure) or "copy"
         #: (MoorDyn-C 2.7's BreakLine: a copy of the old point's mass, volume, CdA and Ca)
