@@ -198,6 +198,10 @@ def test_writer_refuses_python_waves_and_floating(tmp_path):
     m.env.waves = Waves.regular(2.0, 8.0)
     with pytest.raises(ValueError, match="waves were set in Python"):
         write_deck(m, tmp_path / "x.txt")
+    m = read_deck_text(V1)
+    m.add_failure(m.lines[0].end_b, [1], time=5.0)
+    with pytest.raises(ValueError, match="1 line failures: writing the FAILURE section"):
+        write_deck(m, tmp_path / "x.txt")
     with pytest.raises(ValueError, match="version must be"):
         write_deck(read_deck_text(V1), tmp_path / "x.txt", version="v3")
 

@@ -28,6 +28,7 @@ v1 layout. Every other row is read as v2.
 from __future__ import annotations
 
 import logging
+import math
 import re
 from pathlib import Path
 
@@ -38,6 +39,7 @@ from ..model import (
     Body,
     BodyKind,
     Curve,
+    Failure,
     Line,
     LineType,
     Model,
@@ -62,6 +64,7 @@ from .columns import (
     ROD_TYPE_COLUMNS,
     BadField,
     CurveProblem,
+    attachment_of,
     is_attachment,
     looks_like_file,
 )
@@ -73,9 +76,6 @@ log = logging.getLogger("moorline.io")
 #: MoorDyn-C's limit on curve-file rows (more are accepted with a warning).
 CURVE_MAX_POINTS = 30
 
-_UNSUPPORTED = {
-    "FAILURE": "line failures are not implemented",
-}
 _IGNORED = ("CONTROL", "EXTERNAL LOADS")  # MoorDyn-F only; MoorDyn-C ignores them too
 
 
@@ -164,21 +164,11 @@ class _Reader:
                 raise self.error(f"section {sec.name} appears twice (first header on line {first.line})",
                                  line=sec.line)
             self.sections[sec.name] = sec
-        bad = [sec for sec in sections if sec.name in _UNSUPPORTED and sec.rows]
-        if bad:
-            names = [f"{sec.name} (line {sec.line})" for sec in bad]
-            which = f"section {bad[0].name}" if len(bad) == 1 else \
-                f"sections {', '.join(names[:-1])} and {names[-1]}"
-            why = "; ".join(dict.fromkeys(_UNSUPPORTED[sec.name] for sec in bad))
-            verb = "is" if len(bad) == 1 else "are"
-            raise self.error(f"{which} {verb} not supported yet ({why})", line=bad[0].line)
         for sec in sections:
             if sec.name in _IGNORED:
                 if sec.rows:
                     log.warning("%s, line %d: section %s (MoorDyn-F only) is ignored", self.file, sec.line,
                                 sec.name)
-            elif sec.name in _UNSUPPORTED:
-                log.debug("%s, line %d: empty section %s ignored", self.file, sec.line, sec.name)
 
     def required(self, name, what) -> Section:
         sec = self.sections.get(name)
@@ -314,6 +304,47 @@ class _Reader:
                                 self.file, row.line, k)
                     continue
                 ln.syrope_ic = (vals[0], vals[1])
+
+    def read_failures(self):
+        """FAILURE rows ``FailureID Point Line(s) FailTime FailTen`` (spec 1.10): the point or rod
+        end, the lines released there (comma-separated), the failure time [s] and load [N], each
+        0 for none."""
+        sec = self.sections.get("FAILURE")
+        for k, row in enumerate(sec.rows if sec is not None else [], 1):
+            names = ("FailureID", "Point", "Line(s)", "FailTime", "FailTen")
+            if len(row.tokens) < 5:
+                missing = names[len(row.tokens)]
+                raise self.error(f"FAILURE row has {len(row.tokens)} values, expected 5 (FailureID Point Line(s) "
+                                 f"FailTime FailTen): field {missing!r} is missing", row, missing)
+            fid = parse_whole(row.tokens[0])
+            self.check_id("FAILURE", row, fid if fid is not None else -1, k, "FailureID")
+            try:
+                att = attachment_of(row.tokens[1], self)
+            except BadField as bad:
+                raise self.field_error("FAILURE", row, "Point", row.tokens[1], bad) from None
+            nl = len(self.model.lines)
+            ids = []
+            for part in row.tokens[2].split(","):
+                v = parse_whole(part)
+                if v is None or not 1 <= v <= nl:
+                    raise self.error(f"field 'Line(s)' of FAILURE: expected line numbers from 1 to {nl} separated "
+                                     f"by commas (no spaces), got {row.tokens[2]!r}", row, "Line(s)")
+                ln = self.model.lines[v - 1]
+                if att not in (ln.end_a, ln.end_b):
+                    raise self.error(f"field 'Line(s)' of FAILURE: line {v} is not attached to {row.tokens[1]} (its "
+                                     f"ends: {ln.end_a}, {ln.end_b})", row, "Line(s)")
+                ids.append(v - 1)
+            vals = []
+            for name, tok in zip(names[3:], row.tokens[3:5], strict=True):
+                v = parse_number(tok)
+                if v is None or not v >= 0:
+                    raise self.error(f"field {name!r} of FAILURE: expected a number >= 0 (0 for none), got {tok!r}",
+                                     row, name)
+                vals.append(v if v > 0 else math.inf)
+            if vals == [math.inf, math.inf]:
+                log.warning("%s, line %d: failure %d has neither a time nor a tension (both 0): it never happens",
+                            self.file, row.line, k)
+            self.model.failures.append(Failure(att, ids, vals[0], vals[1]))
 
     def read_bodies(self):
         sec = self.sections.get("BODIES")
@@ -620,6 +651,7 @@ def read_deck_text(text: str, path=None, base_dir=None) -> Model:
     rd.read_points()
     rd.read_lines()
     rd.read_syrope_ic()
+    rd.read_failures()
     rd.read_outputs()
     rd.model.source = rd.path
     rd.validate()

@@ -359,6 +359,9 @@ class _Writer:
         if m.floating or m.hydro or m.joints:
             raise ValueError("floating bodies (potential-flow coefficients, joints) are moorline settings that a "
                              "MoorDyn deck cannot express: keep them in a system file (.yaml) that names the deck")
+        if getattr(m, "failures", None):
+            raise ValueError(f"the model has {len(m.failures)} line failures: writing the FAILURE section is not "
+                             "implemented yet, and a deck without it would run without the failures")
         if self.v1 and (m.bodies or m.rods or m.rod_types):
             raise ValueError(f"the model has {len(m.bodies)} bodies and {len(m.rods)} rods: MoorDyn v1 has neither; "
                              "write a v2 deck")
