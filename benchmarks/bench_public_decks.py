@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_vs_moordyn import SHARED, moordyn_copy, moordyn_nodes  # noqa: E402
+from bench_vs_moordyn import SHARED, finish_table, run_moordyn  # noqa: E402
 
 PUBLIC = SHARED / "public_decks"
 
@@ -65,29 +65,6 @@ def surge_of(labels: list[str], X0: np.ndarray):
         return X0 + d * (2.0 * s * math.sin(2 * math.pi * t / 20.0))
 
     return X
-
-
-def run_moordyn(deck: Path, labels, duration, dt):
-    import moordyn as md
-
-    with moordyn_copy(deck):
-        s = md.Create(deck.name)
-        n = md.NCoupledDOF(s)
-        if n != len(labels):
-            md.Close(s)
-            raise RuntimeError(f"MoorDyn has {n} coupled DOF, moorline {len(labels)}")
-        X = surge_of(labels, np.asarray(_x0[deck], dtype=float))
-        md.Init(s, list(X(0.0)), [0.0] * n)
-        nsteps = int(round(duration / dt))
-        t0 = time.process_time()
-        for k in range(nsteps):
-            xk = X(k * dt)
-            vk = (X((k + 1) * dt) - xk) / dt
-            f = md.Step(s, list(xk), list(vk), k * dt, dt)
-        wall = time.process_time() - t0
-        nodes = moordyn_nodes(md, s)
-        md.Close(s)
-    return wall, nodes, np.asarray(f)
 
 
 _x0: dict = {}
@@ -158,7 +135,8 @@ def main(argv=None) -> int:
             labels = s.coupled_dof_labels
             walls = []
             for _ in range(a.repeat):
-                w, nodes_md, f_md = run_moordyn(deck, labels, a.duration, a.dt)
+                w, nodes_md, f_md = run_moordyn(deck, lambda X0, lab=labels: surge_of(lab, X0), a.duration, a.dt,
+                                                x0=_x0[deck], clock=time.process_time)
                 walls.append(w)
             md_wall = statistics.median(walls)
         except Exception as exc:  # a deck one of the codes cannot run: say so and go on
@@ -172,11 +150,7 @@ def main(argv=None) -> int:
                f"{nodes * steps / res['advance'][0]:.3g} | {nodes_md * steps / md_wall:.3g} | {diff:.1e} |")
         print(row, flush=True)
         rows.append(row)
-    table = "\n".join(rows)
-    print()
-    print(table)
-    if a.out:
-        Path(a.out).write_text(table + "\n")
+    finish_table(rows, a.out)
     return 0
 
 
