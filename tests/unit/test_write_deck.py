@@ -198,12 +198,24 @@ def test_writer_refuses_python_waves_and_floating(tmp_path):
     m.env.waves = Waves.regular(2.0, 8.0)
     with pytest.raises(ValueError, match="waves were set in Python"):
         write_deck(m, tmp_path / "x.txt")
-    m = read_deck_text(V1)
-    m.add_failure(m.lines[0].end_b, [1], time=5.0)
-    with pytest.raises(ValueError, match="1 line failures: writing the FAILURE section"):
-        write_deck(m, tmp_path / "x.txt")
     with pytest.raises(ValueError, match="version must be"):
         write_deck(read_deck_text(V1), tmp_path / "x.txt", version="v3")
+
+
+def test_failures_round_trip_and_v1_refuses_them(tmp_path):
+    """The FAILURE section: a time, a load, both (rows keep their order, 0 for a trigger not set)."""
+    m = read_deck_text(V1)
+    m.add_failure(m.lines[0].end_b, [0], time=5.0)
+    m.add_failure(m.lines[1].end_a, [1], tension=2.5e6)
+    m.add_failure(m.lines[0].end_a, [0], time=1.25, tension=3.0e5)
+    out = write_deck(m, tmp_path / "failing.txt")
+    assert "FAILURE" in out.read_text()
+    back = read_deck(out)
+    assert len(back.failures) == 3
+    assert diff(m.failures, back.failures) == []
+    assert diff(m, back) == []
+    with pytest.raises(ValueError, match="MoorDyn v1 has no FAILURE section"):
+        write_deck(m, tmp_path / "x.txt", version="v1")
 
 
 def test_water_files_are_copied(tmp_path):

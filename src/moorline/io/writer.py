@@ -5,6 +5,7 @@ and read again gives the same model."""
 from __future__ import annotations
 
 import logging
+import math
 import re
 import shutil
 from pathlib import Path
@@ -237,6 +238,22 @@ class _Writer:
             return _table("LINE PROPERTIES", LINE_COLUMNS_V1, rows)
         return _table("LINES", LINE_COLUMNS, rows)
 
+    def failures(self) -> list[str]:
+        """FAILURE rows ``FailureID Point Line(s) FailTime FailTen`` (0 for a trigger that is not set)."""
+        rows = []
+        for k, f in enumerate(self.m.failures, 1):
+            att = f.attachment
+            where = str(att.index + 1) if att.kind == "point" else f"R{att.index + 1}{att.end}"
+            rows.append([str(k), where, ",".join(str(i + 1) for i in f.lines),
+                         _fmt(f.time if math.isfinite(f.time) else 0.0),
+                         _fmt(f.tension if math.isfinite(f.tension) else 0.0)])
+        if not rows:
+            return []
+        cols = (Column("FailureID", "(#)", None, ""), Column("Point", "(#)", None, ""),
+                Column("Line(s)", "(#)", None, ""), Column("FailTime", "(s)", None, ""),
+                Column("FailTen", "(N)", None, ""))
+        return _table("FAILURE", cols, rows)
+
     def syrope_ic(self) -> list[str]:
         rows = []
         for k, ln in enumerate(self.m.lines, 1):
@@ -359,9 +376,9 @@ class _Writer:
         if m.floating or m.hydro or m.joints:
             raise ValueError("floating bodies (potential-flow coefficients, joints) are moorline settings that a "
                              "MoorDyn deck cannot express: keep them in a system file (.yaml) that names the deck")
-        if getattr(m, "failures", None):
-            raise ValueError(f"the model has {len(m.failures)} line failures: writing the FAILURE section is not "
-                             "implemented yet, and a deck without it would run without the failures")
+        if self.v1 and getattr(m, "failures", None):
+            raise ValueError(f"the model has {len(m.failures)} line failures: MoorDyn v1 has no FAILURE section; "
+                             "write a v2 deck")
         if self.v1 and (m.bodies or m.rods or m.rod_types):
             raise ValueError(f"the model has {len(m.bodies)} bodies and {len(m.rods)} rods: MoorDyn v1 has neither; "
                              "write a v2 deck")
@@ -389,7 +406,7 @@ class _Writer:
                 out += self.points()
             if m.lines:
                 out += self.lines()
-            out += self.syrope_ic() + self.options()
+            out += self.syrope_ic() + self.failures() + self.options()
         out.append(f"{'-' * 20} OUTPUTS {'-' * 43}")
         out += list(m.outputs)
         if self.v1:
