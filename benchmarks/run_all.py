@@ -3,7 +3,7 @@
     python benchmarks/run_all.py [--repeat 3] [--repeat-small 3] [--baseline-src PATH] [--out benchmarks/RESULTS.md]
 
 Runs bench_vs_moordyn.py, bench_equal_accuracy.py, bench_scaling.py, bench_init.py,
-bench_quasistatic.py, bench_floating.py and bench_compile.py one after the other (each in its own
+bench_quasistatic.py, bench_floating.py, bench_public_decks.py and bench_compile.py one after the other (each in its own
 process, so each starts with a clean interpreter) and writes their tables, with the machine they
 ran on, into one markdown file. Needs ``moordyn`` (and ``cabledyn`` for the CableDyn rows; without
 it those rows are missing), ``moorpy`` for the quasi-static rows and ``capytaine`` for the
@@ -83,6 +83,7 @@ def main(argv=None) -> int:
         run("bench_init.py", "--repeat", rep_small, "--out", str(tmp / "init.md"))
         run("bench_quasistatic.py", "--repeat", "5", "--out", str(tmp / "quasistatic.md"))
         (tmp / "floating.md").write_text(run("bench_floating.py", "--repeat", rep))
+        run("bench_public_decks.py", "--repeat", rep, "--out", str(tmp / "public.md"))
         run("bench_compile.py", "--out", str(tmp / "compile.md"),
             *(["--baseline-src", a.baseline_src] if a.baseline_src else []))
     vs_lines = [ln for ln in vs.splitlines() if ln.strip() and "catenary solve" not in ln and
@@ -138,6 +139,15 @@ element count is the one requested, not the one it runs.
 {(tmp / "init.md").read_text()}
 {(tmp / "quasistatic.md").read_text()}
 {(tmp / "floating.md").read_text()}
+
+## 5. Public MoorDyn decks at their own settings, coupling step 0.01 s
+
+`bench_public_decks.py`: decks of ../shared/public_decks as published (scheme, dtM, mesh), every
+coupled object surging 2 m; MoorDyn and moorline driven by one `Step` per 0.01 s, and moorline also
+through its compiled loop over the same trajectory; CPU time of the process (median of {rep}), so
+the ratios hold on a shared machine.
+
+{(tmp / "public.md").read_text() if (tmp / "public.md").exists() else "(not run)"}
 
 ## First run: compile time, per deck feature
 

@@ -6,8 +6,8 @@ checks it):
     errors.py      the exceptions every layer raises                   -> nothing
     model/         plain descriptions (Model, LineType, Point, Line, Rod, Body, Environment,
                    Options, waves and currents)                         -> numpy
-    io/            MoorDyn v2 decks (lexer, column tables, builder, writer), output tables,
-                   bathymetry and wave/current files                    -> model, errors
+    io/            MoorDyn v1/v2 decks (lexer, column tables, builder, writer), output tables,
+                   bathymetry and wave/current files, VTK files        -> model, errors
     core/          numba kernels, arrays in and out: layout, lines, seabed, rigid bodies,
                    water kinematics, rhs, time schemes, implicit solver and its Jacobian, the
                    dynamic model's static kernels                       -> numpy, numba (and model,
@@ -40,9 +40,11 @@ Nothing imports from a layer above it, and no two modules import each other.
 __version__ = "0.1.0"
 
 from .errors import DeckError, SimulationError  # noqa: E402
+from .io import read_deck, write_deck, write_vtk  # noqa: E402
 from .model import Model  # noqa: E402
 from .motion import Trajectory  # noqa: E402
 from .simulate import simulate  # noqa: E402  (the function shadows its module's name on purpose)
 from .system import System  # noqa: E402
 
-__all__ = ["DeckError", "Model", "SimulationError", "System", "Trajectory", "__version__", "simulate"]
+__all__ = ["DeckError", "Model", "SimulationError", "System", "Trajectory", "__version__", "read_deck", "simulate",
+           "write_deck", "write_vtk"]

@@ -2,7 +2,9 @@
 
     moorline run DECK|SYSTEM.yaml [--duration 60] [--motion motion.csv] [--out DIR] [--dt-out 0.1]
                  [--waves jonswap:Hs=3.5,Tp=7.5,heading=180,seed=1] [--current 1.0@180]
-                 [--checkpoint-every S] [--resume CHECKPOINT] [--force]
+                 [--checkpoint-every S] [--resume CHECKPOINT] [--force] [--vtk]
+    moorline vtk RESULT.nc [--out DIR] [--every N]
+    moorline convert IN OUT [--to v1|v2]
     moorline statics DECK [--out DIR] [--quasi-static [--json] [--offset x,y,z,rx,ry,rz] [--friction CB]]
     moorline check DECK [--strict]
     moorline sweep STUDY.yaml [--workers N] [--scheduler ADDRESS] [--out DIR] [--no-resume]
@@ -17,6 +19,10 @@ their last write, the NetCDF file marked ``complete = 0``. ``--checkpoint-every 
 and options) and appends to the files, bitwise as if the run had never stopped. The first run of
 a deck of a new kind compiles the kernels (said on stderr); the compile time is kept out of the
 run's wall time and real-time factor.
+
+``--vtk`` also writes VTK files for ParaView (``<out>/<base>_vtk/<base>.pvd``, one multiblock file per
+output time; see :mod:`moorline.io.vtk`); ``vtk`` writes them from the NetCDF file of an earlier run.
+``convert`` rewrites a deck in MoorDyn's v2 (default) or v1 layout (see :func:`moorline.io.write_deck`).
 
 ``sweep`` runs a parametric study (see :mod:`moorline.studies`); ``fatigue`` post-processes one run
 (section stress around the cable, rainflow, S-N damage; see :mod:`moorline.post`).
@@ -164,6 +170,8 @@ def cmd_run(args) -> int:
     from .results import NetCDFStream
     from .simulate import simulate
 
+    if args.vtk and args.no_nodes:
+        raise _ArgumentError("--vtk needs the node data: drop --no-nodes")
     system = _load(args)
     out = _make_out_dir(_out_dir(args))
     base = Path(args.deck).stem
@@ -251,8 +259,43 @@ def cmd_run(args) -> int:
         for j in full_ds.joint.values:
             P = full_ds.pto_power.sel(joint=j).values
             print(f"  joint {j}: mean PTO power {P.mean() / 1e3:.2f} kW, max {P.max() / 1e3:.1f} kW")
+    if args.vtk:
+        from .io.vtk import write_vtk
+
+        written.append(write_vtk(full_ds, out / f"{base}_vtk", base=base))
     for p in written:
         print(f"  wrote {p}")
+    return 0
+
+
+def cmd_vtk(args) -> int:
+    from .io.vtk import write_vtk
+
+    src = Path(args.results)
+    if not src.is_file():
+        raise _ArgumentError(f"no such results file: {src}")
+    out = Path(args.out) if args.out else src.with_name(f"{src.stem}_vtk")
+    try:
+        pvd = write_vtk(src, out, base=src.stem, every=args.every)
+    except (OSError, KeyError) as e:
+        raise DeckError(f"cannot read results: {e}", file=src) from None
+    print(f"moorline {__version__}: wrote {pvd} (open it in ParaView)")
+    return 0
+
+
+def cmd_convert(args) -> int:
+    from .io import read_deck, write_deck
+
+    src, dst = Path(args.input), Path(args.output)
+    if dst.resolve() == src.resolve():
+        raise _ArgumentError(f"OUT must differ from IN ({src}): converting in place would lose the original")
+    model = read_deck(src)
+    try:
+        path = write_deck(model, dst, version=args.to)
+    except ValueError as e:
+        print(f"moorline convert: {src} cannot be written as a MoorDyn {args.to} deck: {e}", file=sys.stderr)
+        return 2
+    print(f"moorline {__version__}: wrote {path} (MoorDyn {args.to} layout)")
     return 0
 
 
@@ -536,7 +579,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--resume", metavar="CHECKPOINT", help="continue an interrupted run from its checkpoint (same "
                    "deck, options and --out), appending to its output files")
     p.add_argument("--force", action="store_true", help="run even when the number of time steps is astronomical")
+    p.add_argument("--vtk", action="store_true", help="also write VTK files for ParaView to <out>/<base>_vtk/ "
+                   "(<base>.pvd: every output time)")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("vtk", help="write VTK files for ParaView from the NetCDF results of a run")
+    p.add_argument("results", help="NetCDF results of 'moorline run' (with node data)")
+    p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
+    p.add_argument("--out", help="output folder (default: <results stem>_vtk beside the results)")
+    p.add_argument("--every", type=int, default=1, help="write every N-th output time (default 1: all)")
+    p.set_defaults(func=cmd_vtk)
+
+    p = sub.add_parser("convert", help="rewrite a deck in MoorDyn's v2 or v1 layout")
+    p.add_argument("input", metavar="IN", help="MoorDyn deck (v1 or v2)")
+    p.add_argument("output", metavar="OUT", help="deck to write (curve and settings files go beside it)")
+    p.add_argument("--to", choices=("v1", "v2"), default="v2", help="layout to write (default v2)")
+    p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
+    p.set_defaults(func=cmd_convert)
 
     p = sub.add_parser("statics", help="find the initial equilibrium and report it")
     common(p)

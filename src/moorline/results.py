@@ -67,6 +67,9 @@ class Recorder:
         self.nodes = nodes
         self.probes = None if probes is None else np.asarray(probes, dtype=float).reshape(-1, 3)
         self.t: list[float] = []
+        #: the points recorded: those of the model at the start (a line failure adds free points to
+        #: the running system; their motion is that of the released line ends' nodes)
+        self.n_points = len(system.points)
         self.data: dict[str, list] = {k: [] for k in (
             "node_position", "node_velocity", "node_tension", "node_curvature", "node_bending_moment",
             "segment_tension",
@@ -91,9 +94,10 @@ class Recorder:
         T = s.line_end_tensions()  # the quasi-static lines' in the quasi-static mode
         d["line_tension_a"].append(T[:, 0])
         d["line_tension_b"].append(T[:, 1])
-        d["point_position"].append(w.pr.copy())
-        d["point_velocity"].append(w.pv.copy())
-        d["point_force"].append(w.pF.copy())
+        n = self.n_points
+        d["point_position"].append(w.pr[:n].copy())
+        d["point_velocity"].append(w.pv[:n].copy())
+        d["point_force"].append(w.pF[:n].copy())
         d["coupled_position"].append(w.xc.copy())
         d["coupled_force"].append(s.coupled_forces())
         if s.rods:
@@ -175,7 +179,7 @@ class Recorder:
             "time": ("time", np.asarray(self.t[start:stop], dtype=float), {"units": "s"}),
             "xyz": ("xyz", ["x", "y", "z"]),
             "line": ("line", np.arange(1, (d["line_tension_b"].shape[1] if "line_tension_b" in d else nl) + 1)),
-            "point": ("point", np.arange(1, len(s.points) + 1)),
+            "point": ("point", np.arange(1, self.n_points + 1)),
             "node_line": ("node", node_line),
             "node_index": ("node", node_index),
             "node_s": ("node", node_s, {"units": "m", "long_name": "unstretched arc length from end A"}),
@@ -183,7 +187,8 @@ class Recorder:
             "segment_index": ("segment", seg_index),
             "segment_s": ("segment", seg_s, {"units": "m"}),
             "line_type": ("line", np.array([ln.line_type for ln in s.full_model.lines], dtype=str)),
-            "point_kind": ("point", np.array([p.kind.name.lower() for p in s.model.points], dtype=str)),
+            "point_kind": ("point", np.array([p.kind.name.lower() for p in s.model.points[:self.n_points]],
+                                          dtype=str)),
         }
         if s.n_coupled_dof:
             coords["dof"] = ("dof", s.coupled_dof_labels)

@@ -4,13 +4,14 @@ For each deck listed in ``../shared/public_decks/decks.txt``: parse it in moorli
 ``DURATION`` seconds in both codes with a small imposed surge of every coupled object
 (``SURGE`` m, a raised-cosine cycle of ``PERIOD`` s, so the start is at rest), driven as a
 MoorDyn coupling program does (outer step ``DT``: ``Step(x(t), xd(t), t, DT)``), and compare the
-end tensions of every line (``GetLineFairTen`` and the end-A node tension against moorline's
-``fairlead_tension`` / ``anchor_tension``):
+end tensions of every line (against moorline's ``anchor_tension`` / ``fairlead_tension``):
+
+MoorDyn's end tensions are ``GetLineNodeTen`` at nodes 0 and N (``GetLineFairTen`` is the latter).
 
 * initial: after ``Init``, the largest difference over lines and ends relative to the largest
   tension of the deck;
-* dynamic: per line end, the RMS over the outer samples of the difference, relative to the RMS
-  of MoorDyn's tension; the worst line end is reported.
+* dynamic: per line end, the RMS over the outer samples after Init of the difference, relative to
+  the RMS of MoorDyn's tension; the worst line end is reported.
 
 Decks are copied to a scratch folder first (MoorDyn writes its outputs next to the deck) and
 each run starts in the folder MoorDyn's own tests start in (the one holding ``Mooring/``; else
@@ -19,9 +20,13 @@ runs in its own subprocess with a time limit, so a crash or a hang in one run lo
 
 Run by hand::
 
-    PYTHONPATH=src python tests/conformance/public_sweep.py [--out sweep.json] [--only SUBSTRING]
+    PYTHONPATH=src python tests/conformance/public_sweep.py [--out sweep.json] [--only SUBSTRING] [--icnewton 0]
 
-It prints the table (markdown) and writes every figure to the JSON file.
+It prints one line per deck and writes every figure to the JSON file; ``sweep_table.py`` makes the
+markdown table of it. ``--icnewton 0`` starts moorline with MoorDyn's initial-condition methods
+(which stop where MoorDyn's stop), to compare the dynamics from comparable starts.
+``MOORLINE_ALL_FEATURES=1`` in the environment makes every deck use the one all-features kernel
+(compiled once) instead of compiling a specialisation per kind of deck.
 """
 
 from __future__ import annotations
@@ -133,7 +138,10 @@ def run_moordyn(deck: Path) -> dict:
 
 
 def _node_force(md, ln, j):
-    return float(np.linalg.norm(md.GetLineNodeForce(ln, j)))
+    """Tension at node j (GetLineNodeTen; at node N it is GetLineFairTen). Not GetLineNodeForce:
+    that is the net force on the node, weight and seabed contact included, which on a slack or
+    lying end has nothing to do with the tension."""
+    return float(np.linalg.norm(md.GetLineNodeTen(ln, j)))
 
 
 def _motion(x0, idx, t):
@@ -160,6 +168,8 @@ def run_moorline(deck: Path) -> dict:
         model = read_deck(deck)
     except DeckError as e:
         return {"ok": False, "stage": "parse", "error": str(e)}
+    if os.environ.get("MOORLINE_SWEEP_ICNEWTON"):
+        model.options.ICNewton = int(os.environ["MOORLINE_SWEEP_ICNEWTON"])
     try:
         sysm = System(model, loads_at="last_stage")
         x0 = sysm.deck_coupled_positions()
@@ -227,8 +237,10 @@ def compare(ml: dict, md: dict) -> dict:
     # judged against FLOOR of it (a slack end's relative error says nothing)
     scale = max(float(np.max(np.abs(b))), 1e-9)
     init = float(np.max(np.abs(a[0] - b[0]) / np.maximum(np.abs(b[0]), FLOOR * scale)))
-    rms_d = np.sqrt(np.mean((a - b) ** 2, axis=0))
-    rms_b = np.sqrt(np.mean(b ** 2, axis=0))
+    # the dynamic measure leaves out the sample at Init: it is the initial measure's, and MoorDyn
+    # reports zero tensions there when it did not solve initial conditions (TmaxIC 0)
+    rms_d = np.sqrt(np.mean((a[1:] - b[1:]) ** 2, axis=0))
+    rms_b = np.sqrt(np.mean(b[1:] ** 2, axis=0))
     rel = rms_d / np.maximum(rms_b, FLOOR * scale)
     worst = np.unravel_index(int(np.argmax(rel)), rel.shape)
     return {"initial": init, "dynamic": float(rel[worst]), "worst": [int(worst[0]) + 1, "AB"[worst[1]]],
@@ -252,6 +264,17 @@ def sweep(decks: list[str], scratch: Path) -> list[dict]:
         if row["moordyn"].get("ok") and row["moorline"].get("ok"):
             row["cmp"] = compare(row["moorline"], row["moordyn"])
         rows.append(row)
+        print(_line(row), flush=True)
+    return rows
+
+
+def moordyn_again(rows: list[dict], scratch: Path) -> list[dict]:
+    for row in rows:
+        if not row.get("template"):
+            row["moordyn"] = run_one("moordyn", scratch / row["deck"])
+        row.pop("cmp", None)
+        if row["moordyn"].get("ok") and row["moorline"].get("ok"):
+            row["cmp"] = compare(row["moorline"], row["moordyn"])
         print(_line(row), flush=True)
     return rows
 
@@ -280,13 +303,37 @@ def main(argv=None):
     ap.add_argument("--child", nargs=3, metavar=("CODE", "DECK", "OUT"), help=argparse.SUPPRESS)
     ap.add_argument("--out", default="public_sweep.json")
     ap.add_argument("--only", default="")
+    ap.add_argument("--decks-from", metavar="FILE", help="run only the decks listed in FILE (one a line)")
+    ap.add_argument("--moordyn-again", metavar="SWEEP_JSON",
+                    help="re-run only MoorDyn on every deck of an earlier sweep's JSON and compare again with its "
+                    "moorline results (when only the MoorDyn side of the comparison changed)")
+    ap.add_argument("--recompare", metavar="SWEEP_JSON",
+                    help="compare again the tensions stored in an earlier sweep's JSON (no run)")
+    ap.add_argument("--icnewton", type=int, choices=(-1, 0, 1),
+                    help="set every deck's ICNewton in moorline (0: MoorDyn's initial-condition methods only)")
     args = ap.parse_args(argv)
+    if args.icnewton is not None:
+        os.environ["MOORLINE_SWEEP_ICNEWTON"] = str(args.icnewton)
     if args.child:
         _child(*args.child)
         return 0
+    if args.recompare:
+        rows = json.loads(Path(args.recompare).read_text())
+        for row in rows:
+            row.pop("cmp", None)
+            if row["moordyn"].get("ok") and row["moorline"].get("ok"):
+                row["cmp"] = compare(row["moorline"], row["moordyn"])
+        Path(args.out).write_text(json.dumps(rows, indent=1))
+        return 0
     decks = [d for d in deck_list() if args.only in d]
+    if args.decks_from:
+        wanted = {ln.strip() for ln in Path(args.decks_from).read_text().splitlines() if ln.strip()}
+        decks = [d for d in decks if d in wanted]
     with tempfile.TemporaryDirectory() as tmp:
-        rows = sweep(decks, copy_decks(Path(tmp)))
+        if args.moordyn_again:
+            rows = moordyn_again(json.loads(Path(args.moordyn_again).read_text()), copy_decks(Path(tmp)))
+        else:
+            rows = sweep(decks, copy_decks(Path(tmp)))
     Path(args.out).write_text(json.dumps(rows, indent=1))
     return 0
 

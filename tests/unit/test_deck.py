@@ -479,16 +479,29 @@ def test_repeated_option_last_wins():
 def test_not_acted_on_options_warn_once(caplog):
     extra = """\
 2        UnifyCurrentGrid
-state.bin ICfile
-state2.bin fileIC    again: one warning per key
+1        inertialF
+2        inertialF    again: one warning per key
 """
     with caplog.at_level(logging.DEBUG, logger="moorline.io"):
         m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n" + extra), path="x.txt")
-    assert m.options.not_acted_on == {"UnifyCurrentGrid": "2", "fileIC": "state2.bin"}
+    assert m.options.not_acted_on == {"UnifyCurrentGrid": "2", "inertialF": "2"}
     warnings = [r for r in caplog.records if r.levelno == logging.WARNING]
     assert len(warnings) == 2
-    assert sum("fileIC" in r.getMessage() or "ICfile" in r.getMessage() for r in warnings) == 1
+    assert sum("inertialF" in r.getMessage() for r in warnings) == 1
     assert all("x.txt" in r.getMessage() for r in warnings)
+
+
+def test_file_ic_is_a_path_next_to_the_deck(tmp_path, caplog):
+    """fileIC (alias ICfile) names MoorDyn's saved state relative to the deck's folder."""
+    (tmp_path / "state.bin").write_bytes(b"MoorDyn")
+    deck = tmp_path / "d.txt"
+    deck.write_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nstate.bin ICfile\n"))
+    assert read_deck(deck).options.fileIC == str(tmp_path / "state.bin")
+    # MoorDyn's own test decks name state files they do not ship: a warning, and no state file
+    deck.write_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nnone.bin fileIC\n"))
+    with caplog.at_level(logging.WARNING, logger="moorline.io"):
+        assert read_deck(deck).options.fileIC is None
+    assert "none.bin, which does not exist" in caplog.text and "d.txt" in caplog.text
 
 
 def test_wave_and_current_options_need_their_files(tmp_path):

@@ -48,7 +48,7 @@ import math
 
 import numpy as np
 
-from .features import FLOATING, when
+from .features import FLOATING, LINE_STATES, when
 from .floating import floating_after_step
 from .integrate import RHO_INF, check_state, knot_step, step_end
 from .jacobian import (
@@ -245,7 +245,7 @@ def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit):
     for i in range(IW.fs.size):
         IW.fs[i] = IW.f1[uoff + i]
     if L.xs_f0.size > 0:
-        keep_rates(IW.f1, L, R)
+        when(W, LINE_STATES, keep_rates, (IW.f1, L, R))
     for j in range(W.xc.size):
         IW.ck[0, j] = W.xc[j]
         IW.ck[1, j] = W.vc[j]
@@ -307,7 +307,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     # a static solve has them condensed at rest, as during implicit relaxation, they stay so)
     nx = L.xs_s0.size if L.xs_ctl[XC_MODE] == MODE_RATE else 0
     if nx > 0:
-        start_line_states(y, L, R, h)
+        when(W, LINE_STATES, start_line_states, (y, L, R, h))
     hj = IW.stat[S_HJ]
     rebuild = hj <= 0.0 or abs(h - hj) > 1e-9 * h
     # increment size (in acceleration) that meets both tolerances
@@ -380,8 +380,8 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
                 # VIV phase rates), then the Syrope history
                 rhs(t + h, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
                 IW.stat[S_NRHS] += 1
-                store_line_states(y, L, R, W, h, True)
-                end_line_states(L)
+                when(W, LINE_STATES, store_line_states, (y, L, R, W, h, True))
+                when(W, LINE_STATES, end_line_states, (L,))
             # the derivative at the end of the step as the scheme's equation gives it (the last
             # evaluation was one increment earlier); af <= 1/2
             am = par[0]

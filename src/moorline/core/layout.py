@@ -45,7 +45,8 @@ class LineArrays(NamedTuple):
     seg_ptr: np.ndarray  # int64 (n_lines+1,)
     end_kind: np.ndarray  # int64 (n_lines, 2): attachment kind of end A, end B (ATT_*)
     end_idx: np.ndarray  # int64 (n_lines, 2): index of the point or rod attached
-    clamped: np.ndarray  # int64 (n_lines, 2): 1 if the end is clamped to its rod (line with EI on a rod end)
+    clamped: np.ndarray  # int64 (n_lines, 2): 1 if the end is clamped to its rod (line with EI on a rod end), 2
+    #                      if clamped without passing its bending moment to the rod (MoorDyn-C's way, ClampMoment 0)
     d: np.ndarray  # (n_lines,) diameter [m]
     A: np.ndarray  # (n_lines,) area [m^2]
     w: np.ndarray  # (n_lines,) mass per length [kg/m]
@@ -568,7 +569,9 @@ def build_layout(model: Model, floating=None) -> Layout:
                 end_kind[k, j] = ATT_POINT
             else:
                 end_kind[k, j] = ATT_ROD_A if att.end == "A" else ATT_ROD_B
-                clamped[k, j] = int(lt.has_bending)
+                # 1: clamped, its bending moment acts on the rod; 2: clamped, the moment is not passed
+                # to the rod (MoorDyn-C, ClampMoment 0)
+                clamped[k, j] = int(lt.has_bending) * (1 if model.options.ClampMoment else 2)
             end_idx[k, j] = att.index
         if isinstance(lt.EI, Curve):
             ei_tab[k] = add_table(lt.EI)

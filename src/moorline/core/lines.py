@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from .features import BENDING, STICKSLIP, either, when
+from .features import BENDING, LINE_STATES, STICKSLIP, either, when
 from .jit import kernel
 from .layout import ATT_ROD_A, ATT_ROD_B
 from .linestates import VIS_ELASTIC, segment_axial
@@ -65,6 +65,12 @@ def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
         zlow = zb - 0.5 * d * nzu
         zup = za + 0.5 * d * nzu
     return -zlow / (-zlow + zup)
+
+
+@kernel
+def _no_states(ls):
+    """Stand-in for :func:`segment_axial` in kernels compiled without line states (unreachable)."""
+    return 0.0 * ls, 0.0 * ls
 
 
 @kernel(inline="always")
@@ -155,8 +161,9 @@ def line_forces(L, E, B, W, cd_scale):
             l0 = seg_l0[s]
             strain = ls / l0 - 1.0
             if visco:
-                # viscoelastic and Syrope ropes: the static branch's stretch state (core.linestates)
-                Tm, Dm = segment_axial(L, W, li, s, ls, ldot, l0)
+                # viscoelastic and Syrope ropes: the static branch's stretch state (core.linestates);
+                # compiled only for systems with line states (such a line always has them)
+                Tm, Dm = either(W, LINE_STATES, segment_axial, (L, W, li, s, ls, ldot, l0), _no_states, (ls,))
             elif strain > 0.0:
                 if ean > 0:
                     Tm = table_interp(tab_x, tab_y, ea0, ean, strain)

@@ -477,3 +477,6 @@ def keep_rates(dy, L, R):
     for x in range(L.xs_f0.size):
         L.xs_f0[x] = dy[xo + x]
 
+#: the arrays of the lines that are history, not model: line states at the step start, VIV
+#: running means, Syrope peak/mean tensions and working curves, the local-Euler evaluation flags
+LINE_HISTORY = ("viv_h", "xs_ctl", "xs_s0", "xs_f0", "sy_T", "sy_wc", "calc")

@@ -293,10 +293,12 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
             else:
                 k = end_idx[li, j]
                 e = 0 if end_kind[li, j] == ATT_ROD_A else 1
+                # the bending moment of a clamped cable end acts on the rod (zero when pinned; not
+                # passed on with ClampMoment 0, as in MoorDyn-C)
+                cm = 1.0 if L.clamped[li, j] == 1 else 0.0
                 for c in range(3):
                     rodF[k, e, c] += Fn[n, c]
-                    # the bending moment of a clamped cable end acts on the rod (zero when pinned)
-                    rodMext[k, c] += end_moment[li, j, c]
+                    rodMext[k, c] += cm * end_moment[li, j, c]
                 add_end_mass(rodEM, 2 * k + e, mass[n, 0], mass[n, 1], mass[n, 2], q, n)
     point_loads(P, E, W, cd_scale)
 

@@ -10,6 +10,7 @@ import logging
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..model import (
@@ -103,6 +104,16 @@ def _nsegs(tok, rd=None):
 
 def _word(tok, rd=None):
     return tok
+
+
+def _state_file(tok, rd=None):
+    p = (rd.base_dir if rd is not None else Path.cwd()) / tok
+    if not p.is_file():
+        # MoorDyn's own test decks name state files they do not ship (and MoorDyn-C 2.7 runs them)
+        log.warning("%s: fileIC names %s, which does not exist; the initial conditions are found without it",
+                    rd.file if rd is not None else "deck", p)
+        return None
+    return str(p)
 
 
 def _flags(tok, rd=None):
@@ -202,7 +213,7 @@ _POINT_REF = re.compile(r"(?:P|POINT|C|CON)?(\d+)")
 _ROD_REF = re.compile(r"(?:R|ROD)(\d+)([AB]?)")
 
 
-def _attachment(tok, rd):
+def attachment_of(tok, rd):
     up = tok.upper()
     m = _POINT_REF.fullmatch(up)
     if m:
@@ -345,14 +356,14 @@ BODY_COLUMNS = (
 )
 LINE_COLUMNS = (
     _c("ID", "(#)", _whole), _c("LineType", "(name)", _word, "line_type"),
-    _c("AttachA", "(#)", _attachment, "end_a"), _c("AttachB", "(#)", _attachment, "end_b"),
+    _c("AttachA", "(#)", attachment_of, "end_a"), _c("AttachB", "(#)", attachment_of, "end_b"),
     _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
     _c("LineOutputs", "(-)", _flags, "outputs"),
 )
 LINE_COLUMNS_V1 = (
     _c("Line", "(#)", _whole, "ID"), _c("LineType", "(name)", _word, "line_type"),
     _c("UnstrLen", "(m)", _nonzero, "L"), _c("NumSegs", "(-)", _nsegs, "N"),
-    _c("NodeAnch", "(#)", _attachment, "end_a"), _c("NodeFair", "(#)", _attachment, "end_b"),
+    _c("NodeAnch", "(#)", attachment_of, "end_a"), _c("NodeFair", "(#)", attachment_of, "end_b"),
     _c("Flags/Outputs", "(-)", _flags, "outputs"),
 )
 
@@ -406,7 +417,9 @@ OPTION_TABLE = (
     ("threshIC", ("ICthresh",), "options", "threshIC", _pos),
     ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
     ("ICNewton", (), "options", "ICNewton", _auto01),
+    ("ClampMoment", (), "options", "ClampMoment", _flag01),
     ("dtOut", (), "options", "dtOut", _nonneg),
+    ("fileIC", ("ICfile",), "options", "fileIC", _state_file),
     ("SyropeWorkingCurve", (), "options", "SyropeWorkingCurve", _choice("segment", "line")),
     ("WriteUnits", (), "options", "WriteUnits", _flag01),
     ("disableOutput", (), "options", "disableOutput", _flag01),
@@ -430,7 +443,6 @@ def _never(v, opts):
 #: ``model.options.not_acted_on`` with one warning.
 NOT_ACTED_ON = {
     "UnifyCurrentGrid": ((), _equals(1.0)),
-    "fileIC": (("ICfile",), _never),
     "disableOutTime": ((), _always),
     "WaterKin": ((), _never),
     "inertialF": ((), _equals(0.0)),

@@ -1,4 +1,5 @@
-"""Read and write MoorDyn v2 input decks (line types, points, lines, options, outputs).
+"""Read MoorDyn v2 (and v1) input decks (line types, points, lines, options, outputs); the writer is
+:mod:`moorline.io.writer`.
 
 The reader works in two stages. :func:`moorline.io.lexer.lex` cuts the text into sections and rows
 (each row keeps its line number and raw text); the builder here turns rows into a
@@ -27,6 +28,7 @@ v1 layout. Every other row is read as v2.
 from __future__ import annotations
 
 import logging
+import math
 import re
 from pathlib import Path
 
@@ -37,12 +39,12 @@ from ..model import (
     Body,
     BodyKind,
     Curve,
+    Failure,
     Line,
     LineType,
     Model,
     ModelError,
     Point,
-    PointKind,
     Rod,
     RodType,
     SyropeCurve,
@@ -62,19 +64,18 @@ from .columns import (
     ROD_TYPE_COLUMNS,
     BadField,
     CurveProblem,
+    attachment_of,
     is_attachment,
     looks_like_file,
 )
 from .lexer import Row, Section, lex, parse_number, parse_whole, split_lines, tokenize
+from .writer import write_deck  # noqa: F401  (its old home; moorline.io exports it)
 
 log = logging.getLogger("moorline.io")
 
 #: MoorDyn-C's limit on curve-file rows (more are accepted with a warning).
 CURVE_MAX_POINTS = 30
 
-_UNSUPPORTED = {
-    "FAILURE": "line failures are not implemented",
-}
 _IGNORED = ("CONTROL", "EXTERNAL LOADS")  # MoorDyn-F only; MoorDyn-C ignores them too
 
 
@@ -163,21 +164,11 @@ class _Reader:
                 raise self.error(f"section {sec.name} appears twice (first header on line {first.line})",
                                  line=sec.line)
             self.sections[sec.name] = sec
-        bad = [sec for sec in sections if sec.name in _UNSUPPORTED and sec.rows]
-        if bad:
-            names = [f"{sec.name} (line {sec.line})" for sec in bad]
-            which = f"section {bad[0].name}" if len(bad) == 1 else \
-                f"sections {', '.join(names[:-1])} and {names[-1]}"
-            why = "; ".join(dict.fromkeys(_UNSUPPORTED[sec.name] for sec in bad))
-            verb = "is" if len(bad) == 1 else "are"
-            raise self.error(f"{which} {verb} not supported yet ({why})", line=bad[0].line)
         for sec in sections:
             if sec.name in _IGNORED:
                 if sec.rows:
                     log.warning("%s, line %d: section %s (MoorDyn-F only) is ignored", self.file, sec.line,
                                 sec.name)
-            elif sec.name in _UNSUPPORTED:
-                log.debug("%s, line %d: empty section %s ignored", self.file, sec.line, sec.name)
 
     def required(self, name, what) -> Section:
         sec = self.sections.get(name)
@@ -314,6 +305,47 @@ class _Reader:
                     continue
                 ln.syrope_ic = (vals[0], vals[1])
 
+    def read_failures(self):
+        """FAILURE rows ``FailureID Point Line(s) FailTime FailTen`` (spec 1.10): the point or rod
+        end, the lines released there (comma-separated), the failure time [s] and load [N], each
+        0 for none."""
+        sec = self.sections.get("FAILURE")
+        for k, row in enumerate(sec.rows if sec is not None else [], 1):
+            names = ("FailureID", "Point", "Line(s)", "FailTime", "FailTen")
+            if len(row.tokens) < 5:
+                missing = names[len(row.tokens)]
+                raise self.error(f"FAILURE row has {len(row.tokens)} values, expected 5 (FailureID Point Line(s) "
+                                 f"FailTime FailTen): field {missing!r} is missing", row, missing)
+            fid = parse_whole(row.tokens[0])
+            self.check_id("FAILURE", row, fid if fid is not None else -1, k, "FailureID")
+            try:
+                att = attachment_of(row.tokens[1], self)
+            except BadField as bad:
+                raise self.field_error("FAILURE", row, "Point", row.tokens[1], bad) from None
+            nl = len(self.model.lines)
+            ids = []
+            for part in row.tokens[2].split(","):
+                v = parse_whole(part)
+                if v is None or not 1 <= v <= nl:
+                    raise self.error(f"field 'Line(s)' of FAILURE: expected line numbers from 1 to {nl} separated "
+                                     f"by commas (no spaces), got {row.tokens[2]!r}", row, "Line(s)")
+                ln = self.model.lines[v - 1]
+                if att not in (ln.end_a, ln.end_b):
+                    raise self.error(f"field 'Line(s)' of FAILURE: line {v} is not attached to {row.tokens[1]} (its "
+                                     f"ends: {ln.end_a}, {ln.end_b})", row, "Line(s)")
+                ids.append(v - 1)
+            vals = []
+            for name, tok in zip(names[3:], row.tokens[3:5], strict=True):
+                v = parse_number(tok)
+                if v is None or not v >= 0:
+                    raise self.error(f"field {name!r} of FAILURE: expected a number >= 0 (0 for none), got {tok!r}",
+                                     row, name)
+                vals.append(v if v > 0 else math.inf)
+            if vals == [math.inf, math.inf]:
+                log.warning("%s, line %d: failure %d has neither a time nor a tension (both 0): it never happens",
+                            self.file, row.line, k)
+            self.model.failures.append(Failure(att, ids, vals[0], vals[1]))
+
     def read_bodies(self):
         sec = self.sections.get("BODIES")
         for k, row in enumerate(sec.rows if sec is not None else [], 1):
@@ -334,6 +366,8 @@ class _Reader:
                 f["CdA"] = [cda[0]] * 3 + [cda[1]] * 3
             elif len(cda) == 3:
                 f["CdA"] = cda * 2
+            else:
+                f["CdA"] = cda
             if f["kind"] not in (BodyKind.FREE, BodyKind.COUPLED_PINNED) and (
                     f["m"] or f["V"] or any(f["I"]) or any(f["CdA"]) or any(f["Ca"])):
                 log.info("%s, line %d: body %d is %s: its own mass, volume, inertia, CdA and Ca are not used (as "
@@ -506,6 +540,8 @@ class _Reader:
             dt_wave = parse_number(value)
             if dt_wave is None or not dt_wave > 0:
                 raise self.error(f"field {typed!r} of OPTIONS: expected a number > 0, got {value!r}", row, typed)
+        o = self.model.options
+        o.WaveKin, o.Currents, o.dtWave = wave_kin, currents, dt_wave
         if wave_kin == 0 and currents == 0:
             return
         try:
@@ -615,6 +651,7 @@ def read_deck_text(text: str, path=None, base_dir=None) -> Model:
     rd.read_points()
     rd.read_lines()
     rd.read_syrope_ic()
+    rd.read_failures()
     rd.read_outputs()
     rd.model.source = rd.path
     rd.validate()
@@ -710,138 +747,3 @@ def read_curve(path, what: str = "curve") -> Curve:
         return _load_curve(path, what)
     except CurveProblem as e:
         raise DeckError(f"{what} curve: {e.message}", file=path, line=e.line, row=e.row) from None
-
-
-# ---------------------------------------------------------------------------------- writer
-_KIND_WORD = {PointKind.FIXED: "Fixed", PointKind.COUPLED: "Coupled", PointKind.FREE: "Free"}
-_SAFE = re.compile(r"[^A-Za-z0-9_.-]")
-
-
-def _fmt(v) -> str:
-    if isinstance(v, int | bool):
-        return str(int(v))
-    return repr(float(v))
-
-
-def _table(title: str, columns, rows: list[list[str]]) -> list[str]:
-    """A dashed header, titles, units and aligned rows."""
-    body = [[c.name for c in columns], [c.unit for c in columns], *rows]
-    widths = [max(len(r[i]) for r in body if i < len(r)) for i in range(len(columns))]
-    out = [f"{'-' * 20} {title} {'-' * max(3, 50 - len(title))}"]
-    for r in body:
-        out.append("  ".join(s.ljust(w) for s, w in zip(r, widths, strict=False)).rstrip())
-    return out
-
-
-def _write_curve(c: Curve, path: Path, what: str, type_name: str):
-    units = {"EA": ("strain (-)", "tension (N)"), "BA": ("strain rate (1/s)", "damping force (N)"),
-             "EI": ("curvature (1/m)", "bending moment (N-m)")}[what]
-    head = [f"{what} curve of line type {type_name} (written by moorline)", f"{units[0]}  {units[1]}",
-            "---"]
-    rows = [f"{_fmt(x)} {_fmt(y)}" for x, y in zip(c.x, c.y, strict=True)]
-    # no trailing newline: MoorDyn-C reads the empty record after it as a bad curve point
-    path.write_text("\n".join(head + rows), encoding="utf-8")
-
-
-def _check_token(text: str, what: str):
-    if not text or any(ch.isspace() for ch in text) or "#" in text or "---" in text:
-        raise ValueError(f"{what} {text!r} cannot be written to a deck (it must be one token without "
-                         "spaces, '#' or '---')")
-
-
-def write_deck(model: Model, path) -> Path:
-    """Write ``model`` as a MoorDyn v2 deck that :func:`read_deck` reads back to an equal model.
-
-    Sections are written in the order LINE TYPES, POINTS, LINES, OPTIONS, OUTPUTS, followed by a
-    closing dashed line. EA/BA/EI curves are written to neighbouring files named
-    ``<deck stem>_<type>_<EA|BA|EI>.txt``. Floats are written with ``repr`` so they read back exactly.
-
-    Parameters
-    ----------
-    model : Model
-    path : str or Path
-        The deck file to write (overwritten).
-
-    Returns
-    -------
-    Path
-        The path written.
-
-    Raises
-    ------
-    ValueError
-        If the model holds something a deck cannot express (names with spaces, body points, rod
-        attachments).
-    """
-    path = Path(path)
-    out = ["-" * 20 + " MoorDyn v2 input file " + "-" * 30,
-           f"Written by moorline{f' from {model.source.name}' if model.source else ''}"]
-
-    rows = []
-    for name, lt in model.line_types.items():
-        _check_token(name, "line type name")
-        cells = [name, _fmt(lt.d), _fmt(lt.w)]
-        for what in ("EA", "BA", "EI"):
-            v = getattr(lt, what)
-            if isinstance(v, Curve):
-                fname = f"{path.stem}_{_SAFE.sub('_', name)}_{what}.txt"
-                _write_curve(v, path.parent / fname, what, name)
-                cells.append(fname)
-            else:
-                cells.append(_fmt(v))
-        cells += [_fmt(lt.Cd), _fmt(lt.Ca), _fmt(lt.CdAx), _fmt(lt.CaAx)]
-        if (lt.Cl, lt.dF, lt.cF) != (0.0, 0.0, 0.0):
-            cells.append(_fmt(lt.Cl))
-            if (lt.dF, lt.cF) != (0.08, 0.18):
-                cells += [_fmt(lt.dF), _fmt(lt.cF)]
-        rows.append(cells)
-    out += _table("LINE TYPES", LINE_TYPE_COLUMNS[:max((len(r) for r in rows), default=10)], rows)
-
-    with_force = any(p.F_ext.any() for p in model.points)
-    rows = []
-    for i, p in enumerate(model.points, 1):
-        if p.kind not in _KIND_WORD:
-            raise ValueError(f"point {i}: {p.kind.name} points cannot be written (bodies not supported yet)")
-        cells = [str(i), _KIND_WORD[p.kind], *map(_fmt, p.r), _fmt(p.m), _fmt(p.V)]
-        if with_force:
-            cells += list(map(_fmt, p.F_ext))
-        rows.append(cells + [_fmt(p.CdA), _fmt(p.Ca)])
-    out += _table("POINTS", POINT_COLUMNS_F if with_force else POINT_COLUMNS, rows)
-
-    rows = []
-    for k, ln in enumerate(model.lines, 1):
-        ends = []
-        for att in (ln.end_a, ln.end_b):
-            if att.kind != "point":
-                raise ValueError(f"line {k}: attachment {att} cannot be written (rods not supported yet)")
-            ends.append(str(att.index + 1))
-        if ln.outputs:
-            _check_token(ln.outputs, f"line {k} output flags")
-        rows.append([str(k), ln.line_type, *ends, _fmt(ln.L), str(int(ln.N)), ln.outputs or "-"])
-    out += _table("LINES", LINE_COLUMNS, rows)
-
-    out.append(f"{'-' * 20} OPTIONS {'-' * 43}")
-    opts = []
-    for key, _aliases, target, attr, _parse in OPTION_TABLE:
-        v = getattr(model.env if target == "env" else model.options, attr)
-        if v is None:
-            continue
-        opts.append((v if isinstance(v, str) else _fmt(v), key))
-    if model.env.bathymetry is not None:
-        from .bathymetry import write_seafloor_grid
-
-        grid = write_seafloor_grid(model.env.bathymetry, path.with_name(f"{path.stem}_seafloor.txt"))
-        opts.append((grid.name, "SeafloorFile"))
-    for key, value in model.options.not_acted_on.items():
-        _check_token(str(value), f"option {key} value")
-        opts.append((str(value), key))
-    width = max((len(v) for v, _ in opts), default=0)
-    out += [f"{v.ljust(width)}  {k}" for v, k in opts]
-
-    out.append(f"{'-' * 20} OUTPUTS {'-' * 43}")
-    for name in model.outputs:
-        _check_token(name, "output channel")
-    out += list(model.outputs)
-    out.append("-" * 20 + " need this final dashed line " + "-" * 24)
-    path.write_text("\n".join(out) + "\n", encoding="utf-8")
-    return path

@@ -18,6 +18,7 @@ from .types import (
     BodyKind,
     Curve,
     Environment,
+    Failure,
     Line,
     LineType,
     ModelError,
@@ -34,7 +35,8 @@ from .types import (
 
 __all__ = ["BODY_KIND_WORDS", "CONTACT_MODES", "ELASTIC", "FRICTION_MODELS", "SYROPE", "SYROPE_WC_TYPES",
            "VISCO_CONSTANT", "VISCO_MEAN", "SyropeCurve", "POINT_KIND_WORDS", "Attachment", "Bathymetry",
-           "BemRun", "Body", "BodyKind", "Curve", "Environment", "FloatingBody", "Hull", "HydroBodies", "Joint", "Line",
+           "BemRun", "Body", "BodyKind", "Curve", "Environment", "Failure", "FloatingBody", "Hull", "HydroBodies",
+           "Joint", "Line",
            "LineType",
            "Model", "ModelError", "MorisonStrip", "Options", "Point", "PointKind", "Rod", "RodKind", "RodType",
            "angles_xyz", "rotation_xyz"]

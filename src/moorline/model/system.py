@@ -13,6 +13,7 @@ The runtime object that integrates it is :class:`moorline.System`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,6 +32,7 @@ from .types import (
     BodyKind,
     Curve,
     Environment,
+    Failure,
     Line,
     LineType,
     ModelError,
@@ -64,6 +66,8 @@ class Model:
     floating: list[FloatingBody] = field(default_factory=list)
     hydro: list[HydroBodies] = field(default_factory=list)
     joints: list[Joint] = field(default_factory=list)
+    #: line failures (MoorDyn's FAILURE section, :class:`Failure`)
+    failures: list[Failure] = field(default_factory=list)
 
     # ------------------------------------------------------------------ builders
     def add_line_type(self, name: str, *, d: float, w: float, EA, BA=0.0, EI=0.0, Cd=0.0, Ca=0.0,
@@ -155,6 +159,14 @@ class Model:
         line = Line(line_type, end_a, end_b, float(L), int(N), outputs)
         self.lines.append(line)
         return line
+
+    def add_failure(self, attachment: Attachment, lines, *, time: float = math.inf,
+                    tension: float = math.inf) -> Failure:
+        """Let ``lines`` (0-based indices) go of ``attachment`` at ``time`` [s] or once the load
+        they carry there reaches ``tension`` [N] (see :class:`Failure`)."""
+        f = Failure(attachment, [int(i) for i in np.atleast_1d(lines)], float(time), float(tension))
+        self.failures.append(f)
+        return f
 
     def add_hydro(self, bodies, coefficients, **options) -> HydroBodies:
         """Make deck bodies ``bodies`` (0-based indices, in the order of the coefficient set's
@@ -302,6 +314,8 @@ class Model:
                 raise ModelError(f"body {i}: mass, inertia, volume, CdA and Ca must be >= 0")
         self._check_free_rigid()
         self._check_floating()
+        for k, f in enumerate(self.failures, 1):
+            check_failure(self, f, f"failure {k}")
         if not (self.env.rho >= 0 and self.env.g >= 0):  # also refuses NaN
             raise ModelError(f"rho and g must be >= 0 (0: vacuum, weightless), got rho = {self.env.rho}, "
                              f"g = {self.env.g}")
@@ -437,3 +451,22 @@ def _num_or_curve(v):
     if isinstance(v, tuple) and len(v) == 2:
         return Curve(*v)
     return float(v)
+
+
+def check_failure(model: Model, f: Failure, what: str) -> None:
+    """Raise :class:`ModelError` unless every line of failure ``f`` has an end on its attachment."""
+    att = f.attachment
+    if att.kind == "point" and not 0 <= att.index < len(model.points):
+        raise ModelError(f"{what}: there is no point {att.index + 1} ({len(model.points)} points)")
+    if att.kind == "rod" and not 0 <= att.index < len(model.rods):
+        raise ModelError(f"{what}: there is no rod {att.index + 1} ({len(model.rods)} rods)")
+    if not f.lines:
+        raise ModelError(f"{what}: no lines listed")
+    for li in f.lines:
+        if not 0 <= li < len(model.lines):
+            raise ModelError(f"{what}: there is no line {li + 1} ({len(model.lines)} lines)")
+        ln = model.lines[li]
+        if att not in (ln.end_a, ln.end_b):
+            raise ModelError(f"{what}: line {li + 1} is not attached to {att} (its ends: {ln.end_a}, {ln.end_b})")
+    if not (f.time > 0 and f.tension > 0):  # also refuses NaN
+        raise ModelError(f"{what}: time and tension must be > 0 (inf for none), got {f.time} and {f.tension}")

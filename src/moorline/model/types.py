@@ -500,6 +500,33 @@ class Line:
 
 
 @dataclass
+class Failure:
+    """A line failure (one row of MoorDyn's FAILURE section): the ``lines`` attached at
+    ``attachment`` let go of it at ``time`` or once the load they carry there reaches ``tension``,
+    whichever comes first. The released ends stay joined to one new free point (no mass, no
+    volume: the line end nodes carry their own mass) that starts where the attachment was, with its
+    velocity; the run goes on.
+
+    Parameters
+    ----------
+    attachment : Attachment
+        The point or rod end the lines let go of.
+    lines : list of int
+        0-based indices of the lines released there (each has an end on ``attachment``).
+    time : float
+        Failure time [s]; ``inf`` (or <= 0 in a deck) for none.
+    tension : float
+        Failure load [N]: the magnitude of the vector sum of the listed lines' end tensions at the
+        attachment (the load through the failing connection); ``inf`` (or <= 0 in a deck) for none.
+    """
+
+    attachment: Attachment
+    lines: list[int]
+    time: float = math.inf
+    tension: float = math.inf
+
+
+@dataclass
 class Bathymetry:
     """Seabed heights on a rectangular x-y grid, interpolated bilinearly.
 
@@ -650,12 +677,23 @@ class Options:
     #: method (ICgenDynamic), -1 automatic (Newton with the implicit GenAlpha scheme)
     ICNewton: int = -1
     dtOut: float = 0.0
+    #: the bending moment of a cable clamped to a rod acts on the rod (1, moorline) or is not passed
+    #: to it (0, MoorDyn-C 2.7)
+    ClampMoment: int = 1
+    #: MoorDyn's saved state (a MoorDyn-C SaveState file) to start from, read after the catenary
+    #: start and before the initial-condition solve (None: none)
+    fileIC: str | None = None
     WriteUnits: int = 1
     disableOutput: int = 0
     writeLog: int = 0
     #: Syrope working curves: one per segment ('segment', moorline), or one per line rebuilt by
     #: whichever of its segments last raised its largest tension ('line', MoorDyn-C)
     SyropeWorkingCurve: str = "segment"
+    #: MoorDyn's water-kinematics options as the deck gave them (the waves and current they read are
+    #: in :class:`Environment`); kept so that a deck written back names the same files
+    WaveKin: int = 0
+    Currents: int = 0
+    dtWave: float = 0.25
     #: options read from a deck that this version does not act on yet, {key: value text}
     not_acted_on: dict[str, str] = field(default_factory=dict)
 

@@ -18,6 +18,8 @@ restarted from it continues bitwise identically to one that never stopped:
 - floating bodies: their radiation states are part of ``y``; the floating work carries the rest
   (the convolution's velocity history and its cursor, the trapezoid's factored matrices and their
   step, the joints' slide and PTO power);
+- the line failures, pending and happened (a checkpoint written after a failure is restored into a
+  system built from the deck by releasing the same line ends again, then restoring the state);
 - the initial-condition and stability reports, and a caller's ``meta`` (for the command line,
   the sizes of the streamed output files at the moment of the checkpoint).
 
@@ -46,8 +48,10 @@ import numpy as np
 
 from .. import __version__
 from ..core.layout import Motion
+from ..core.linestates import LINE_HISTORY
 from ..errors import CheckpointError
 from ..io.atomic import atomic_path
+from . import failures
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -55,9 +59,6 @@ if TYPE_CHECKING:
 #: format version of the checkpoint files
 VERSION = 1
 
-#: the arrays of the lines that are history, not model: line states at the step start, VIV
-#: running means, Syrope peak/mean tensions and working curves, the local-Euler evaluation flags
-LINE_HISTORY = ("viv_h", "xs_ctl", "xs_s0", "xs_f0", "sy_T", "sy_wc", "calc")
 
 
 class _Some:
@@ -149,7 +150,8 @@ def save(system: System, path, *, meta: dict | None = None) -> Path:
         arrays["implicit_par"] = system._imp[0].par
     info = {"version": VERSION, "moorline_version": __version__, "fingerprint": fingerprint(system),
             "describe": describe(system), "t": float(system.t), "ic_report": system.ic_report,
-            "stability": system.stability, "grid_warned": system._grid_warned, "meta": meta or {}}
+            "stability": system.stability, "grid_warned": system._grid_warned, "meta": meta or {},
+            "failures": [failures.to_record(ev) for ev in system.failures]}
     buf = io.BytesIO()
     np.savez(buf, info=np.array(json.dumps(info, default=str)), **arrays)
     with atomic_path(path) as tmp, open(tmp, "wb") as f:
@@ -176,6 +178,8 @@ def load(system: System, path) -> dict:
         info = json.loads(str(data.pop("info")))
     except (OSError, ValueError, KeyError) as e:
         raise CheckpointError(f"{path}: not a readable moorline checkpoint ({e})") from None
+    if info.get("failures"):
+        failures.replay(system, info["failures"])  # the lines released before the checkpoint, released again
     if "implicit_par" in data:
         system._implicit()  # the implicit solver's arrays exist before they are compared and filled
     if info.get("version") != VERSION:

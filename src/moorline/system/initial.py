@@ -41,7 +41,8 @@ from ..core.rhs import rhs
 from ..core.rigid import body_kinematics, body_point_kinematics, rod_kinematics, rod_nodes
 from ..core.seabed import resting_penetration, seabed_at
 from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
-from ..errors import SimulationError
+from ..errors import DeckError, SimulationError
+from ..io.moordyn_state import read_moordyn_state
 from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
 
 if TYPE_CHECKING:
@@ -56,8 +57,15 @@ MAX_NODE_SPEED = 500.0
 NEWTON_ACC_TOL = 1e-5
 NEWTON_DX_TOL = 1e-6
 NEWTON_MAX_IT = 400
-#: Newton iterations from the catenary start before implicit relaxation takes over
+#: Newton iterations from the catenary start before implicit relaxation takes over, with the
+#: implicit scheme (whose time step, which the relaxation runs, is compiled anyway)
 NEWTON_FIRST_IT = 30
+#: the same with an explicit scheme. An iteration is cheap (a coloured Jacobian and a banded solve:
+#: 0.1 ms on the README's 3-line chain), but from the catenary start the pseudo-transient iterations
+#: of a chain lying on the seabed creep: that chain converges in 167 of them. With 30 it fell back on
+#: the implicit relaxation, whose kernels (the generalized-alpha step) an explicit deck otherwise
+#: never needs: a third of the README example's first-run compile time went to them.
+NEWTON_FIRST_IT_EXPLICIT = 250
 
 
 def end_points(layout: Layout, li: int, W) -> tuple[np.ndarray, np.ndarray]:
@@ -308,8 +316,9 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     y_start = sys.y.copy()
     t0 = time.perf_counter()
     sink_into_seabed(sys, E)
+    first = NEWTON_FIRST_IT if sys.scheme == Scheme.GENALPHA else NEWTON_FIRST_IT_EXPLICIT
     status, it, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW, float(opts.dtIC),
-                                       NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_FIRST_IT)
+                                       NEWTON_ACC_TOL, NEWTON_DX_TOL, first)
     relax = 0.0
     if status != 1:
         sys.y[:] = y_start
@@ -425,3 +434,52 @@ def quasistatic_equilibrium(sys: System, *, tol: float = 1e-7, max_outer: int = 
     sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer, converged=False)
     raise SimulationError("the floating bodies found no equilibrium on the quasi-static lines (Newton statics of "
                           f"the linearised loads did not settle in {outer} linearisations)", time=0.0)
+
+
+def start_from_moordyn_state(sys: System, path) -> None:
+    """Put MoorDyn's saved state ``path`` (the deck's ``fileIC``, a MoorDyn-C SaveState file; see
+    :mod:`moorline.io.moordyn_state`) into the state: the internal nodes of every line and the free
+    points, positions and velocities. Bodies and rods with states of their own (free, pinned) are
+    not read: MoorDyn's rows for them are refused unless they hold nothing."""
+    version, objs = read_moordyn_state(path)
+    m = sys.model
+    nb, nr, npnt, nl = len(m.bodies), len(m.rods), len(m.points), len(m.lines)
+    if len(objs) != nb + nr + npnt + nl:
+        raise DeckError(f"MoorDyn {version[0]}.{version[1]} state file with {len(objs)} objects; this deck has "
+                        f"{nb} bodies, {nr} rods, {npnt} points and {nl} lines ({nb + nr + npnt + nl} objects). "
+                        f"Was it saved from this deck, with a single-step time scheme?", file=str(path),
+                        field="fileIC")
+    R = sys.layout.rigid
+    for what, first, count, held in (("body", 0, nb, R.body_blk), ("rod", nb, nr, np.maximum(R.rod_blk, R.rod_row))):
+        for k in range(count):
+            if held[k] >= 0 and np.any(objs[first + k] != 0.0):
+                raise DeckError(f"the MoorDyn state file holds a state for {what} {k + 1}, which moves on its own; "
+                                f"moorline reads the lines and points of MoorDyn's state files, not the poses of "
+                                f"free or pinned bodies and rods", file=str(path), field="fileIC")
+    lay = sys.layout
+    uo = lay.u_offset
+    P = lay.points
+    for p in range(npnt):
+        a = objs[nb + nr + p]
+        if a.shape != (1, 6):
+            raise DeckError(f"point {p + 1}: expected 1 x 6 values (position, velocity), got {a.shape[0]} x "
+                            f"{a.shape[1]}", file=str(path), field="fileIC")
+        if P.kind[p] == P_FREE:
+            row = int(P.row[p])
+            sys.y[3 * row:3 * row + 3] = a[0, :3]
+            sys.y[uo + 3 * row:uo + 3 * row + 3] = a[0, 3:]
+    L = lay.lines
+    for li in range(nl):
+        a = objs[nb + nr + npnt + li]
+        n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
+        if a.shape != (n1 - n0 - 2, 6):
+            raise DeckError(f"line {li + 1}: expected {n1 - n0 - 2} x 6 values (position and velocity of each "
+                            f"internal node), got {a.shape[0]} x {a.shape[1]} (MoorDyn writes more for lines "
+                            f"with states of their own; moorline does not read those)", file=str(path),
+                            field="fileIC")
+        for j, n in enumerate(range(n0 + 1, n1 - 1)):
+            row = int(L.node_row[n])
+            sys.y[3 * row:3 * row + 3] = a[j, :3]
+            sys.y[uo + 3 * row:uo + 3 * row + 3] = a[j, 3:]
+    sys.ic_report["file_ic"] = str(path)
+    log.info("started from MoorDyn's saved state %s (MoorDyn %d.%d)", path, *version)

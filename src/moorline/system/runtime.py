@@ -49,6 +49,7 @@ from ..errors import SimulationError
 from ..model import BodyKind, Model, RodKind, rotation_xyz
 from ..quasistatic.catenary import CatenaryStatus
 from . import checkpoint
+from .failures import FailureEvent, connection_load, fire, new_event
 from .floating import JOINT_PULL, floating_arrays
 from .initial import (
     MAX_NODE_SPEED,
@@ -56,6 +57,7 @@ from .initial import (
     quasistatic_equilibrium,
     report_residual,
     solve_initial_conditions,
+    start_from_moordyn_state,
 )
 from .limits import check_model
 from .qsmooring import QuasiStaticMooring
@@ -90,7 +92,7 @@ class System:
 
     def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None,
                  loads_at: str = "end", mooring: str = "dynamic", qs_interval: float | None = None,
-                 qs_friction=0.0):
+                 qs_friction=0.0, _floating=None):
         if loads_at not in ("end", "last_stage"):
             raise ValueError(f"loads_at must be 'end' or 'last_stage', got {loads_at!r}")
         if mooring not in ("dynamic", "quasistatic"):
@@ -104,11 +106,13 @@ class System:
             model = self._qsm.dynamic_model(model)
         self.model = model
         check_model(model)
-        self.layout = build_layout(model, floating=floating_arrays(model))
+        #: the floating bodies' arrays (kept: a line failure rebuilds the layout with them)
+        self._floating = floating_arrays(model) if _floating is None else _floating
+        self.layout = build_layout(model, floating=self._floating)
         if self._qsm is not None:
             self.layout.fl.ctl[1] = 1
-        self.scheme, self.scheme_params, self.scheme_label = parse_scheme(
-            scheme if scheme is not None else model.options.tScheme)
+        self._scheme_name = scheme if scheme is not None else model.options.tScheme
+        self.scheme, self.scheme_params, self.scheme_label = parse_scheme(self._scheme_name)
         self.dtM = float(dtM) if dtM is not None else choose_dtM(model, self.layout)
         if not self.dtM > 0:
             raise ValueError(f"dtM must be > 0, got {self.dtM}")
@@ -153,6 +157,19 @@ class System:
         self.ic_report: dict = {}
         #: quasi-static mode: the lines are re-solved and re-linearised every qs_interval [s]
         self.qs_interval = float(qs_interval) if qs_interval is not None else max(self.dtM, 0.02)
+        if model.failures and mooring == "quasistatic":
+            raise ValueError("line failures (a FAILURE section) need the dynamic mooring; the quasi-static mode "
+                             "(mooring='quasistatic') does not support them")
+        #: line failures (the model's, and those added by :meth:`add_failure` and :meth:`break_line`),
+        #: pending or happened (:class:`moorline.system.failures.FailureEvent`)
+        self.failures = [FailureEvent(f) for f in model.failures]
+        #: what the free point of a failure is: "massless" (MoorDyn's documented failure) or "copy"
+        #: (MoorDyn-C 2.7's BreakLine: a copy of the old point's mass, volume, CdA and Ca)
+        self.failure_new_point = "massless"
+        #: longest simulated time [s] between two checks of the tension-triggered failures inside
+        #: one ``advance_to`` (each ``step`` call is checked at its end, as MoorDyn checks after every
+        #: coupling step); time-triggered failures happen at their time exactly
+        self.failure_check_interval = math.inf
 
     @classmethod
     def from_file(cls, path, **kwargs) -> System:
@@ -298,6 +315,8 @@ class System:
                         CatenaryStatus(status).name.lower())
         self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
         opts = self.model.options
+        if opts.fileIC and self._qsm is None:
+            start_from_moordyn_state(self, opts.fileIC)  # after the catenary start, before the IC solve (spec 6.1)
         if self._qsm is not None:
             self._evaluate()
             self._qsm.update(self)
@@ -431,6 +450,70 @@ class System:
         compile_for(kernel, args)
 
     def _advance(self, motion: Motion, t_end: float) -> None:
+        """Integrate to ``t_end``, stopping at failure times and checking failure loads between
+        compiled intervals (see :mod:`moorline.system.failures`)."""
+        pending = [ev for ev in self.failures if ev.pending]
+        if not pending:
+            self._advance_plain(motion, t_end)
+            return
+        tol = 1e-9 * self.dtM
+        while True:
+            self._fire_due(tol)
+            pending = [ev for ev in self.failures if ev.pending]
+            t_next = min([t_end] + [ev.failure.time for ev in pending])
+            if any(math.isfinite(ev.failure.tension) for ev in pending):
+                t_next = min(t_next, self.t + self.failure_check_interval)
+            if t_next - self.t > tol:
+                self._advance_plain(motion, t_next)
+            if t_end - self.t <= tol:
+                self._fire_due(tol)
+                return
+
+    def _fire_due(self, tol: float) -> None:
+        """Let every pending failure whose time has come or whose load is reached happen now."""
+        for ev in self.failures:
+            if not ev.pending:
+                continue
+            f = ev.failure
+            if f.time <= self.t + tol:
+                fire(self, ev, "time", new_point=self.failure_new_point)
+            elif math.isfinite(f.tension) and connection_load(self, f.attachment, f.lines) >= f.tension:
+                fire(self, ev, "tension", new_point=self.failure_new_point)
+
+    # ------------------------------------------------------------------ line failures
+    def add_failure(self, attachment, lines, *, time: float = math.inf, tension: float = math.inf):
+        """Let ``lines`` (0-based indices) go of ``attachment`` at ``time`` [s] or once the load they
+        carry there (the magnitude of the vector sum of their end tensions) reaches ``tension`` [N].
+
+        ``attachment``: a point number (1-based, as in the deck), a deck word (``'P3'``, ``'R1A'``) or
+        an :class:`~moorline.model.Attachment`. The released ends are joined to one new free point
+        (see :mod:`moorline.system.failures`). Returns the pending
+        :class:`~moorline.system.failures.FailureEvent`."""
+        ev = new_event(self, attachment, lines, time, tension)
+        self.failures.append(ev)
+        return ev
+
+    def break_line(self, line, end: str, *, new_point: str | None = None) -> int:
+        """Detach end ``end`` ('A' or 'B') of line ``line`` (0-based index or a LineView) from what it
+        is attached to, now (MoorDyn's BreakLine). The end becomes a new free point, starting where
+        the attachment was with its velocity; returns its 0-based index. ``new_point``: "massless"
+        (default :attr:`failure_new_point`) or "copy" (see :mod:`moorline.system.failures`)."""
+        if not self.initialized:
+            raise RuntimeError("call init() before break_line()")
+        li = line.index if isinstance(line, LineView) else int(line)
+        if not 0 <= li < len(self.model.lines):
+            raise ValueError(f"line {li}: there are {len(self.model.lines)} lines (0-based indices)")
+        e = str(end).upper()
+        if e not in ("A", "B"):
+            raise ValueError(f"end must be 'A' or 'B', got {end!r}")
+        ln = self.model.lines[li]
+        att = ln.end_a if e == "A" else ln.end_b
+        ev = new_event(self, att, [li], math.inf, math.inf)
+        self.failures.append(ev)
+        fire(self, ev, "call", new_point=new_point or self.failure_new_point)
+        return ev.point
+
+    def _advance_plain(self, motion: Motion, t_end: float) -> None:
         if self._qsm is None:
             self._advance_interval(motion, t_end)
             return
