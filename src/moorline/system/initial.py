@@ -53,9 +53,14 @@ log = logging.getLogger("moorline")
 #: node speed [m/s] above which a state is taken as unstable
 MAX_NODE_SPEED = 500.0
 #: Newton statics converges when every residual acceleration is below NEWTON_ACC_TOL [m/s^2] (a
-#: force of 1e-5 N per kg of node mass) and the last position update below NEWTON_DX_TOL [m]
+#: force of 1e-5 N per kg of node mass) and the last position update below NEWTON_DX_TOL [m]. The
+#: update bound is far below any physical scale so that the start does not depend on the path the
+#: iterations took: near the root Newton converges quadratically, and one more iteration takes the
+#: update from about 1e-6 m to round-off. With 1e-6 m, two mirror-image systems (one reaching the
+#: root by Newton alone, the other after implicit relaxation) started 1.6e-8 of the tension apart;
+#: with 1e-9 m, 2e-12 (tests/verification/test_seabed.py, mirrored slope).
 NEWTON_ACC_TOL = 1e-5
-NEWTON_DX_TOL = 1e-6
+NEWTON_DX_TOL = 1e-9
 NEWTON_MAX_IT = 400
 #: Newton iterations from the catenary start before implicit relaxation takes over, with the
 #: implicit scheme (whose time step, which the relaxation runs, is compiled anyway)
