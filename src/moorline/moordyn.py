@@ -209,18 +209,13 @@ def Step(instance: MoorDyn, x, v, t, dt) -> tuple:
         s.step(None, None, float(t), float(dt))
         return ()
     v = np.asarray(v, dtype=float).ravel()
-    f = s.step(list(x), v, float(t), float(dt)).copy()
+    f = s.step(list(x), v, float(t), float(dt))
     if dt > 0:
         a = (v - instance.xd_prev) / float(dt)
-        lay = s.layout
-        o = 0
-        for M6, kinds, full in ((s.work.b6M, lay.coupled_bodies, [BodyKind.COUPLED]),
-                                (s.work.rod6M, lay.coupled_rods, [RodKind.COUPLED])):
-            objs = s.model.bodies if M6 is s.work.b6M else s.model.rods
-            for i in kinds:
-                k = 6 if objs[i].kind in full else 3
+        for kind, i, k, o in s.coupled_slots:
+            if kind != "point":
+                M6 = s.work.b6M if kind == "body" else s.work.rod6M
                 f[o:o + k] -= M6[i][:k, :k] @ a[o:o + k]
-                o += k
         instance.xd_prev = v
     return _t(f)
 

@@ -254,24 +254,31 @@ class System:
         if viv:
             W.acc[...] = acc  # VIV's "previous evaluation" stays the last one of the step
 
+    _FORCE_FIELD = {"body": "b6F", "rod": "rod6F", "point": "pF"}  # Work arrays of the coupled loads
+
     def _coupled_gather(self) -> list[tuple[str, int, int, int]]:
-        """Where each coupled object's loads are in the Work arrays: (field, row, count, offset
-        in the coupled-DOF vector)."""
         lay = self.layout
         out = []
         o = 0
         for i in lay.coupled_bodies:
             k = 6 if lay.rigid.body_kind[i] == int(BodyKind.COUPLED) else 3
-            out.append(("b6F", int(i), k, o))
+            out.append(("body", int(i), k, o))
             o += k
         for r in lay.coupled_rods:
             k = 6 if lay.rigid.rod_kind[r] == int(RodKind.COUPLED) else 3
-            out.append(("rod6F", int(r), k, o))
+            out.append(("rod", int(r), k, o))
             o += k
         for p in lay.coupled_points:
-            out.append(("pF", int(p), 3, o))
+            out.append(("point", int(p), 3, o))
             o += 3
         return out
+
+    @property
+    def coupled_slots(self) -> list[tuple[str, int, int, int]]:
+        """Where each coupled object sits in the coupled-DOF vector, in order: (``'body'``,
+        ``'rod'`` or ``'point'``, its 0-based index, its number of DOF (6, or 3 when pinned or a
+        point), its offset)."""
+        return self._gather
 
     def coupled_forces(self, out: np.ndarray | None = None) -> np.ndarray:
         """Loads of the mooring system on the coupled DOFs [N, N m], in coupled-DOF order: F6 - M a_in
@@ -280,8 +287,8 @@ class System:
         if out is None:
             out = np.empty(self.layout.n_coupled_dof)
         W = self.work
-        for field, i, k, o in self._gather:
-            out[o:o + k] = getattr(W, field)[i, :k]
+        for kind, i, k, o in self._gather:
+            out[o:o + k] = getattr(W, self._FORCE_FIELD[kind])[i, :k]
         return out
 
     # ------------------------------------------------------------------ init
@@ -593,11 +600,9 @@ class System:
                 rows[lay.n_rows + int(R.body_blk[i])] = ("body", i + 1, 0)
         return rows
 
-    def set_state(self, line_positions=None, line_velocities=None, point_positions=None,
-                  point_velocities=None) -> None:
-        """Overwrite the state: internal node positions/velocities of lines (lists of (N+1, 3) arrays,
-        ends ignored) and free point positions/velocities ((n_points, 3), non-free rows ignored).
-        Used to start from another program's initial state."""
+    def _put_state(self, line_positions=None, line_velocities=None, point_positions=None,
+                   point_velocities=None) -> None:
+        """Write the state rows of :meth:`set_state` (same arguments), nothing else."""
         L = self.layout.lines
         uoff = self.layout.u_offset
         for arrs, off in ((line_positions, 0), (line_velocities, uoff)):
@@ -617,6 +622,13 @@ class System:
                 if P.kind[p] == P_FREE:
                     row = int(P.row[p])
                     self.y[off + 3 * row: off + 3 * row + 3] = arr[p]
+
+    def set_state(self, line_positions=None, line_velocities=None, point_positions=None,
+                  point_velocities=None) -> None:
+        """Overwrite the state: internal node positions/velocities of lines (lists of (N+1, 3) arrays,
+        ends ignored) and free point positions/velocities ((n_points, 3), non-free rows ignored).
+        Used to start from another program's initial state."""
+        self._put_state(line_positions, line_velocities, point_positions, point_velocities)
         self._reset_scheme()
         if self.initialized:
             self._evaluate()
