@@ -461,19 +461,14 @@ def start_from_moordyn_state(sys: System, path) -> None:
                 raise DeckError(f"the MoorDyn state file holds a state for {what} {k + 1}, which moves on its own; "
                                 f"moorline reads the lines and points of MoorDyn's state files, not the poses of "
                                 f"free or pinned bodies and rods", file=str(path), field="fileIC")
-    lay = sys.layout
-    uo = lay.u_offset
-    P = lay.points
     for p in range(npnt):
         a = objs[nb + nr + p]
         if a.shape != (1, 6):
             raise DeckError(f"point {p + 1}: expected 1 x 6 values (position, velocity), got {a.shape[0]} x "
                             f"{a.shape[1]}", file=str(path), field="fileIC")
-        if P.kind[p] == P_FREE:
-            row = int(P.row[p])
-            sys.y[3 * row:3 * row + 3] = a[0, :3]
-            sys.y[uo + 3 * row:uo + 3 * row + 3] = a[0, 3:]
-    L = lay.lines
+    points = np.vstack([objs[nb + nr + p] for p in range(npnt)]) if npnt else np.zeros((0, 6))
+    L = sys.layout.lines
+    lines = []
     for li in range(nl):
         a = objs[nb + nr + npnt + li]
         n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
@@ -482,9 +477,8 @@ def start_from_moordyn_state(sys: System, path) -> None:
                             f"internal node), got {a.shape[0]} x {a.shape[1]} (MoorDyn writes more for lines "
                             f"with states of their own; moorline does not read those)", file=str(path),
                             field="fileIC")
-        for j, n in enumerate(range(n0 + 1, n1 - 1)):
-            row = int(L.node_row[n])
-            sys.y[3 * row:3 * row + 3] = a[j, :3]
-            sys.y[uo + 3 * row:uo + 3 * row + 3] = a[j, 3:]
+        lines.append(np.pad(a, ((1, 1), (0, 0))))  # MoorDyn saves the internal nodes: the ends are not state
+    # the state rows only (the initial-condition solve that follows evaluates and restarts the scheme)
+    sys._put_state([a[:, :3] for a in lines], [a[:, 3:] for a in lines], points[:, :3], points[:, 3:])
     sys.ic_report["file_ic"] = str(path)
     log.info("started from MoorDyn's saved state %s (MoorDyn %d.%d)", path, *version)
