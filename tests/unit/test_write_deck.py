@@ -52,13 +52,18 @@ def _run_dir(deck: Path) -> Path:
     return deck.parent
 
 
-def _round_trip(deck: Path, tmp_path: Path, version="v2"):
+def _read_in_run_dir(deck: Path):
+    """The deck read from the folder MoorDyn runs it from (it names its files relative to that)."""
     cwd = os.getcwd()
     os.chdir(_run_dir(deck))
     try:
-        a = read_deck(deck)
+        return read_deck(deck)
     finally:
         os.chdir(cwd)
+
+
+def _round_trip(deck: Path, tmp_path: Path, version="v2"):
+    a = _read_in_run_dir(deck)
     out = write_deck(a, tmp_path / "written.txt", version=version)
     b = read_deck(out)
     return a, b
@@ -258,12 +263,7 @@ def _copy_converted(name: str, tmp_path: Path) -> tuple[Path, Path]:
     repo = name.split("/")[0]
     shutil.copytree(PUBLIC / repo, tmp_path / repo)
     orig = tmp_path / name
-    cwd = os.getcwd()
-    os.chdir(_run_dir(orig))
-    try:
-        model = read_deck(orig)
-    finally:
-        os.chdir(cwd)
+    model = _read_in_run_dir(orig)
     conv = write_deck(model, orig.with_name("converted_" + orig.name))
     return orig, conv
 
