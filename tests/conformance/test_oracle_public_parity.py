@@ -14,6 +14,8 @@ each run against the live oracle until the cause is shown.
   SaveState file read as fileIC) moorline agrees to 1e-8, so the 27 % of the sweep is the start:
   MoorDyn's initial-condition solver hands over a state far from equilibrium (the fairlead tension
   jumps by a third in the first 0.1 s), moorline's Newton start is in equilibrium.
+* ``wavekin_2/wavekin_3_curr5.txt``: the same, and its ``UnifyCurrentGrid 0`` (keep the 4-D current
+  apart from the wave grid) was read and ignored by moorline; acted on now, it agrees to 1e-6.
 * ``RodHanging.txt``: MoorDyn 2.7.2's Init with ``TmaxIC 0`` reports the free rod's end B, and starts
   the line on it, 20 m from where the deck puts it and from where MoorDyn's own state puts it one
   step later (the end moves 27 m in the first 2 ms step). moorline starts the rod and its lines
@@ -192,15 +194,19 @@ def test_beam_agrees_under_rk4_and_sags_as_euler_bernoulli(tmp_path):
 
 
 # ----------------------------------------------------------------------------- 4-D current grid
-def test_current_grid_deck_agrees_from_moordyns_start(tmp_path):
-    deck = _copy(tmp_path, "wavekin_2/wavekin_2_curr5.txt")
+@pytest.mark.parametrize("name, tol", [("wavekin_2_curr5.txt", 1e-8), ("wavekin_3_curr5.txt", 1e-6)])
+def test_current_grid_deck_agrees_from_moordyns_start(tmp_path, name, tol):
+    """wavekin_2: waves on a grid (WaveKin 2), the current sampled onto it; wavekin_3: waves from an
+    elevation record (WaveKin 3) with ``UnifyCurrentGrid 0``, the current kept on its own grid
+    (moorline ignored that option before issue 18's fix and differed by 5e-3 here)."""
+    deck = _copy(tmp_path, f"wavekin_2/{name}")
     state = tmp_path / "curr5.state"
     md = _moordyn(deck, [1], 30, 0.1, save_state=state)
     ml, _ = _moorline(_with_file_ic(deck, state), [1], 30, 0.1)
-    # waves, a time-varying 4-D current, seabed friction: 1e-8 (measured 1.2e-10 over 10 s); the
-    # tensions MoorDyn reports at Init differ by 2.4e-8 of the largest (they come from its last IC
-    # evaluation, not from the saved state)
-    assert np.max(np.abs(ml[1:] - md[1:])) / np.max(md) < 1e-8
+    # waves, a time-varying 4-D current, seabed friction: 1e-8 (measured 1.2e-10 over 10 s; WaveKin
+    # 3 1e-6: its FFT kinematics agree to 2e-7 m/s, measured 2.5e-8); the tensions MoorDyn reports
+    # at Init differ by 2.4e-8 of the largest (from its last IC evaluation, not the saved state)
+    assert np.max(np.abs(ml[1:] - md[1:])) / np.max(md) < tol
     assert np.max(np.abs(ml[0] - md[0])) / np.max(md) < 1e-7
     # MoorDyn's own start is far from equilibrium: its fairlead tension jumps by a third in 0.1 s
     assert abs(md[1, 0, 1] / md[0, 0, 1] - 1.0) > 0.25
