@@ -239,3 +239,28 @@ def test_rod_hanging_moordyn_init_puts_rod_end_b_elsewhere(tmp_path):
     sm.init()
     assert np.allclose(sm.rods[0].end_positions()[1], deck_b, atol=1e-9)
     assert np.allclose(sm.lines[1].node_positions()[-1], deck_b, atol=1e-9)
+
+
+# ----------------------------------------------------------------------------- VIV
+def test_viv_deck_from_moordyns_start(tmp_path):
+    """viv.txt (VIV lift on a cable in a current): moorline reads the lift phase of every internal
+    node from MoorDyn's state file (its 7th column for VIV lines) and runs on from MoorDyn's start.
+    The running RMS of the cross-flow motion that MoorDyn's model keeps is not in the file, so it
+    restarts from zero in moorline: the agreement is 1e-2, not round-off (measured over 10 s from
+    the deck's 100 s IC: 3.3e-3 at end A, 9.2e-4 at end B; 1.3e-2 from moorline's own start)."""
+    from moorline.io.moordyn_state import read_moordyn_state
+
+    deck = _copy(tmp_path, "viv/viv.txt", [(r"^100(\s+TmaxIC)", r"4\1")])
+    state = tmp_path / "viv.state"
+    md = _moordyn(deck, [1], 20, 0.1, save_state=state)
+    ml, s = _moorline(_with_file_ic(deck, state), [1], 0, 0.1)
+    _, objs = read_moordyn_state(state)
+    line = objs[-1]
+    assert line.shape == (99, 7)
+    L = s.layout.lines
+    xo = 6 * int(s.layout.rigid.dims[0]) + 13 * int(s.layout.rigid.dims[1]) + int(s.layout.rigid.dims[2])
+    phases = np.array([s.y[xo + int(L.node_xs[n])] for n in range(1, 100)])
+    assert np.array_equal(phases, line[:, 6]) and np.ptp(phases) > 0.0
+    ml, _ = _moorline(_with_file_ic(deck, state), [1], 20, 0.1)
+    rel = np.sqrt(np.mean((ml[1:] - md[1:]) ** 2, axis=0)) / np.sqrt(np.mean(md[1:] ** 2, axis=0))
+    assert np.max(rel) < 1e-2
