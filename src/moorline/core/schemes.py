@@ -41,7 +41,7 @@ def relax_factor(m, M, c0, c1):
     return c0 * (1.0 - 1.0 / M) + c1 * (1.0 - 0.5 * (math.tanh(4.0 * ((m + 1.0) / M - 0.5)) + 1.0))
 
 
-@kernel
+@kernel(inline="always")
 def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     f_old = S[3]
     f = S[0]
@@ -55,7 +55,7 @@ def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
         f_old[i] = f[i]
 
 
-@kernel
+@kernel(inline="always")
 def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     # the past derivatives live in S[1..3] (newest first), the new one in S[4]: S[0] is the time
     # loop's scratch for its final evaluation
@@ -108,7 +108,7 @@ def _copy_line_rows(src, dst, li, L, R):
             dst[xo + x] = src[xo + x]
 
 
-@kernel
+@kernel(inline="always")
 def leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """Local-time-step Euler: a line whose interval has not elapsed is not evaluated; it reuses its
     last derivative and its last end loads."""
@@ -182,7 +182,7 @@ def _newmark_state(y0, d0, d1, out, R, mult, P, pa, pb, qa, qb):
         out[i] = y0[i] + mult * (qa * d0[i] + qb * d1[i])
 
 
-@kernel
+@kernel(inline="always")
 def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's ACA<M>: Newmark (gamma, beta) with M relaxed fixed-point iterations on the
     derivative at the end of the step; the last iterate's derivative is kept for the next step."""
@@ -214,7 +214,7 @@ def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
         d0[i] = d1[i]
 
 
-@kernel
+@kernel(inline="always")
 def wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """MoorDyn's Wilson<M> (theta = sp[6]): M relaxed fixed-point iterations at t + theta h (which,
     as in MoorDyn, relax the start derivative itself), then the state brought back to t + h."""
