@@ -271,7 +271,7 @@ def _coupled_moved(IW, Mo, W, t, piece):
     return False
 
 
-@kernel
+@kernel(inline="always")
 def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     """One generalized-alpha step of length ``h`` in place. Returns 0 on convergence, 1 when the
     Newton iterations did not converge (``y`` then restored to the start of the step).
