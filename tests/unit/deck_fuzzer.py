@@ -146,6 +146,12 @@ def main(argv=None) -> int:
     for deck, extra in DECKS:
         for name in extra:
             shutil.copy(deck.parent / name, tmp / name)
+    # the unmutated decks first: they compile the kernels the cases use (minutes on a busy machine
+    # with a cold cache), so that a case's time is its own and a hang can be told from a compile
+    for deck, _ in DECKS:
+        shutil.copy(deck, tmp / deck.name)
+        print(json.dumps({"warmup": deck.name}), flush=True)
+        print(json.dumps({"warmed": deck.name, "outcome": run_case(tmp / deck.name, a.budget)}), flush=True)
     for i in range(a.cases):
         deck, _ = DECKS[rng.randrange(len(DECKS))]
         text, kinds = mutate(deck.read_text(), rng)
