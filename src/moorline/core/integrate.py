@@ -18,7 +18,18 @@ from .features import FIXED_POINT, FLOATING, MOORDYN_SCHEMES, when
 from .floating import floating_after_step
 from .jit import kernel
 from .rhs import motion_piece, rhs
-from .schemes import SP_BETA, SP_GAMMA, SP_LINES, SP_ORDER, ab_step, heun_step, leuler_step, newmark_step, wilson_step
+from .schemes import (
+    SP_BETA,
+    SP_GAMMA,
+    SP_LINES,
+    SP_ORDER,
+    ab_step,
+    heun_step,
+    leuler_begin,
+    leuler_end,
+    newmark_step,
+    wilson_step,
+)
 
 log = logging.getLogger("moorline.core")
 
@@ -150,8 +161,6 @@ def _moordyn_step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S,
         heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
     elif scheme == 6:
         ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
-    elif scheme == 7:
-        leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
     elif scheme == 8:
         newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
     else:
@@ -166,15 +175,22 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
 
     The stages of Euler, RK2 and RK4 share one call of ``rhs`` (stage s evaluates the derivative
     into ``S[s]``): each call site of ``rhs`` passes some 1,500 machine words of arrays, and
-    compiling one instead of four roughly halves the compile time of the time loop."""
+    compiling one instead of four roughly halves the compile time of the time loop.
+
+    MoorDyn's local Euler (scheme 7) is Euler with the lines' bookkeeping before and after its one
+    evaluation (:func:`.schemes.leuler_begin`, :func:`.schemes.leuler_end`), so it shares that call
+    too: through a scheme function of its own every step passed all the arrays twice more (some
+    2,000 machine words per call), a third of the step of a small system."""
     if scheme == 3:
         when(W, FIXED_POINT, _implicit_step, (y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece))
         return
-    if scheme >= 5:
+    if scheme >= 5 and scheme != 7:
         when(W, MOORDYN_SCHEMES, _moordyn_step, (y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece))
         return
+    if scheme == 7:
+        when(W, MOORDYN_SCHEMES, leuler_begin, (h, sp, L.node_ptr, L.calc))
     yt = S[4]
-    n_stages = 1 if scheme == 0 else (2 if scheme == 1 else 4)
+    n_stages = 1 if (scheme == 0 or scheme == 7) else (2 if scheme == 1 else 4)
     for s in range(n_stages):
         # stage inputs: y at t; then y + h/2 k1, y + h/2 k2 at t + h/2; y + h k3 at t + h
         if s == 0:
@@ -189,7 +205,10 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
         B.ctl[1] = 1 if s == 0 else 0
         rhs(ts, ys, S[s], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
-    if scheme == 0:
+    if scheme == 7:
+        when(W, MOORDYN_SCHEMES, leuler_end, (S[0], S[3], sp, L.node_ptr, L.node_row, L.seg_ptr, L.seg_xs, L.node_xs,
+                                              L.calc, R.dims))
+    if scheme == 0 or scheme == 7:
         k1 = S[0]
         for i in range(y.size):
             y[i] += h * k1[i]

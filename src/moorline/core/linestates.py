@@ -67,7 +67,13 @@ VIV_NM = 500.0
 @kernel(inline="always")
 def xs_offset(R):
     """Index in the state where the line states start (after the radiation states)."""
-    return 6 * R.dims[0] + 13 * R.dims[1] + R.dims[2]
+    return xs_start(R.dims)
+
+
+@kernel
+def xs_start(dims):
+    """:func:`xs_offset` from ``RigidArrays.dims`` alone (for kernels that take arrays)."""
+    return 6 * dims[0] + 13 * dims[1] + dims[2]
 
 
 @kernel

@@ -9,7 +9,8 @@ v2.7 takes them, so a deck that names one runs the same algorithm here:
 - ``LEuler``: Euler in which each line is evaluated only when the time since its last update
   reaches 0.999 x CFL x its segment period (points, rods and bodies every step); in between the
   line's whole derivative (velocities and accelerations) is reused, and so are the end forces and
-  masses it hands to its points and rods (``LineArrays.calc``);
+  masses it hands to its points and rods (``LineArrays.calc``). It runs as the time loop's Euler
+  step between :func:`leuler_begin` and :func:`leuler_end`;
 - ``ACA<M>``: Newmark's average constant acceleration (gamma 1/2, beta 1/4) by M relaxed
   fixed-point iterations on the end-of-step derivative;
 - ``Wilson<M>``: Wilson-theta (theta 1.37) the same way, evaluated at t + theta h and brought back.
@@ -25,7 +26,7 @@ from __future__ import annotations
 import math
 
 from .jit import kernel
-from .linestates import xs_offset
+from .linestates import xs_start
 from .rhs import rhs
 
 SP_ORDER = 4
@@ -88,55 +89,58 @@ def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
 
 
 @kernel
-def _copy_line_rows(src, dst, li, L, R):
-    """Copy the derivative rows of line ``li`` (internal nodes, line states) from ``src`` to ``dst``."""
-    n3 = R.dims[0]
-    uoff = 3 * n3 + 7 * R.dims[1]
-    for n in range(L.node_ptr[li] + 1, L.node_ptr[li + 1] - 1):
-        o = 3 * L.node_row[n]
+def _copy_line_rows(src, dst, li, node_ptr, node_row, seg_ptr, seg_xs, node_xs, n3, uoff, xo):
+    """Copy the derivative rows of line ``li`` (internal nodes, line states) from ``src`` to ``dst``.
+    Takes arrays, not the LineArrays: it runs once per line and step."""
+    for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
+        o = 3 * node_row[n]
         for c in range(3):
             dst[o + c] = src[o + c]
             dst[uoff + o + c] = src[uoff + o + c]
-    xo = xs_offset(R)
-    for s in range(L.seg_ptr[li], L.seg_ptr[li + 1]):
-        x = L.seg_xs[s]
+    for s in range(seg_ptr[li], seg_ptr[li + 1]):
+        x = seg_xs[s]
         if x >= 0:
             dst[xo + x] = src[xo + x]
-    for n in range(L.node_ptr[li], L.node_ptr[li + 1]):
-        x = L.node_xs[n]
+    for n in range(node_ptr[li], node_ptr[li + 1]):
+        x = node_xs[n]
         if x >= 0:
             dst[xo + x] = src[xo + x]
 
 
-@kernel(inline="always")
-def leuler_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
-    """Local-time-step Euler: a line whose interval has not elapsed is not evaluated; it reuses its
-    last derivative and its last end loads."""
-    f = S[0]
-    kept = S[3]
-    nl = L.node_ptr.size - 1
+@kernel
+def leuler_begin(h, sp, node_ptr, calc):
+    """Local-time-step Euler, before its derivative: flag (``calc``) the lines whose update
+    interval has elapsed since their last update (all of them at the first step)."""
+    nl = node_ptr.size - 1
     first = sp[SP_STEPS] == 0.0
     for li in range(nl):
         dt0 = sp[SP_LINES + li]
         acc = sp[SP_LINES + nl + li] + h
         if first or acc >= dt0:
             sp[SP_LINES + nl + li] = h
-            L.calc[li] = 1
+            calc[li] = 1
         else:
             sp[SP_LINES + nl + li] = acc
-            L.calc[li] = 0
-    B.ctl[1] = 1
-    rhs(t, y, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
-    B.ctl[1] = 0
-    for li in range(nl):
-        if L.calc[li] != 0:
-            _copy_line_rows(f, kept, li, L, R)
+            calc[li] = 0
+
+
+@kernel
+def leuler_end(f, kept, sp, node_ptr, node_row, seg_ptr, seg_xs, node_xs, calc, dims):
+    """Local-time-step Euler, after its derivative ``f``: a line evaluated now keeps its rows of
+    ``f`` (in ``kept``); a line not evaluated takes its rows of its last update from ``kept``
+    (velocities and accelerations alike, as MoorDyn-C does). The Euler update ``y += h f`` follows
+    in the caller. Every line is flagged for evaluation again (what every other caller of the
+    derivative expects)."""
+    n3 = dims[0]
+    uoff = 3 * n3 + 7 * dims[1]
+    xo = xs_start(dims)
+    for li in range(node_ptr.size - 1):
+        if calc[li] != 0:
+            _copy_line_rows(f, kept, li, node_ptr, node_row, seg_ptr, seg_xs, node_xs, n3, uoff, xo)
         else:
-            _copy_line_rows(kept, f, li, L, R)
-            L.calc[li] = 1
+            _copy_line_rows(kept, f, li, node_ptr, node_row, seg_ptr, seg_xs, node_xs, n3, uoff, xo)
+            calc[li] = 1
     sp[SP_STEPS] = 1.0
-    for i in range(y.size):
-        y[i] += h * f[i]
 
 
 @kernel
