@@ -25,6 +25,9 @@ Run by hand::
 It prints one line per deck and writes every figure to the JSON file; ``sweep_table.py`` makes the
 markdown table of it. ``--icnewton 0`` starts moorline with MoorDyn's initial-condition methods
 (which stop where MoorDyn's stop), to compare the dynamics from comparable starts.
+``--same-start`` starts moorline from MoorDyn's own state after ``Init`` (MoorDyn's ``SaveState``
+file, read as the deck's ``fileIC``, with no IC solve in moorline), so any difference left is in the
+dynamics alone.
 ``MOORLINE_ALL_FEATURES=1`` in the environment makes every deck use the one all-features kernel
 (compiled once) instead of compiling a specialisation per kind of deck.
 """
@@ -126,6 +129,8 @@ def run_moordyn(deck: Path) -> dict:
     v0 = np.zeros(n)
     md.Init(s, x0, v0)
     t_init = time.perf_counter() - t0
+    if os.environ.get("MOORLINE_SWEEP_SAME_START"):
+        md.SaveState(s, str(_state_file(deck)))
     series = [tens()]
     t = 0.0
     for _k in range(int(round(DURATION / DT))):
@@ -135,6 +140,11 @@ def run_moordyn(deck: Path) -> dict:
         series.append(tens())
     md.Close(s)
     return {"ok": True, "tensions": series, "n_dof": n, "wall": time.perf_counter() - t0, "wall_init": t_init}
+
+
+def _state_file(deck: Path) -> Path:
+    """Where ``--same-start`` keeps MoorDyn's state after Init (beside the scratch copy of the deck)."""
+    return deck.with_name(deck.name + ".init_state")
 
 
 def _node_force(md, ln, j):
@@ -170,6 +180,11 @@ def run_moorline(deck: Path) -> dict:
         return {"ok": False, "stage": "parse", "error": str(e)}
     if os.environ.get("MOORLINE_SWEEP_ICNEWTON"):
         model.options.ICNewton = int(os.environ["MOORLINE_SWEEP_ICNEWTON"])
+    if os.environ.get("MOORLINE_SWEEP_SAME_START"):
+        # start from the state MoorDyn's Init handed over (its SaveState file; the deck option fileIC)
+        # and solve no initial conditions: the dynamics alone are compared
+        model.options.fileIC = str(_state_file(deck))
+        model.options.TmaxIC = 0.0
     try:
         sysm = System(model, loads_at="last_stage")
         x0 = sysm.deck_coupled_positions()
@@ -311,7 +326,12 @@ def main(argv=None):
                     help="compare again the tensions stored in an earlier sweep's JSON (no run)")
     ap.add_argument("--icnewton", type=int, choices=(-1, 0, 1),
                     help="set every deck's ICNewton in moorline (0: MoorDyn's initial-condition methods only)")
+    ap.add_argument("--same-start", action="store_true",
+                    help="start moorline from MoorDyn's state after Init (MoorDyn's SaveState file read as the "
+                    "deck's fileIC, no IC solve in moorline): compares the dynamics alone")
     args = ap.parse_args(argv)
+    if args.same_start:
+        os.environ["MOORLINE_SWEEP_SAME_START"] = "1"
     if args.icnewton is not None:
         os.environ["MOORLINE_SWEEP_ICNEWTON"] = str(args.icnewton)
     if args.child:

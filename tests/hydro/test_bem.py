@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import time
+import logging
 
 import numpy as np
 import pytest
@@ -42,10 +42,8 @@ MESH = dict(n_meridian=40, n_theta=64)  # 40 panels pole to waterline, 64 around
 @pytest.fixture(scope="module")
 def hemisphere(tmp_path_factory):
     ka = np.union1d(np.union1d(KA_HEAVE, KA_SURGE), np.linspace(0.02, 2.0, 23))
-    t0 = time.perf_counter()
     ds = compute_coefficients(mesh_hemisphere(1.0, **MESH), omega=np.sqrt(ka * G), rho=RHO, g=G,
                               cache_dir=tmp_path_factory.mktemp("cache"))
-    ds.attrs["test_seconds"] = time.perf_counter() - t0
     return ds
 
 
@@ -72,7 +70,7 @@ def test_hemisphere_limits_and_hydrostatics(hemisphere):
     """Infinite-frequency heave added mass of the hemisphere tends to 0.5 (Hulme) within 2 %; C33 = rho g pi a^2
     within 0.5 %; buoyancy-only roll stiffness about the centre is rho g (pi a^4/4 - 2/3 pi a^3 * 3a/8) = 0
     to 0.3 % of either cancelling term rho g pi a^4/4 (measured 0.19 %: the panel polygon); the displaced
-    volume is 2/3 pi a^3 within 0.5 %; the run takes seconds."""
+    volume is 2/3 pi a^3 within 0.5 %."""
     m = RHO * 2 / 3 * np.pi
     a33_inf = float(hemisphere.added_mass_inf.sel(radiating_dof="Heave", influenced_dof="Heave")) / m
     assert a33_inf == pytest.approx(0.5, rel=2e-2)
@@ -80,7 +78,6 @@ def test_hemisphere_limits_and_hydrostatics(hemisphere):
     assert C[2, 2] == pytest.approx(RHO * G * np.pi, rel=5e-3)
     assert abs(C[3, 3]) < 3e-3 * RHO * G * np.pi / 4
     assert float(hemisphere.displaced_volume[0]) == pytest.approx(2 / 3 * np.pi, rel=5e-3)
-    assert hemisphere.attrs["test_seconds"] < 20
 
 
 def test_hemisphere_irf_round_trip_and_state_space(hemisphere):
@@ -106,18 +103,15 @@ def test_hemisphere_irf_round_trip_and_state_space(hemisphere):
     assert fit.passivity_report.passive
 
 
-def test_cache_hit_identical_and_key_changes(tmp_path):
-    """Second call loads from the cache in well under a second and returns identical data; every input changes
+def test_cache_hit_identical_and_key_changes(tmp_path, caplog):
+    """The second call loads from the cache (no Capytaine run) and returns identical data; every input changes
     the key."""
     mesh = mesh_cylinder(1.0, 1.0, n_radial=3, n_vertical=4, n_theta=12)
     kw = dict(omega=np.array([0.8, 1.6, 2.4]), wave_direction=[0.0, np.pi / 2], rho=RHO, g=G, cache_dir=tmp_path)
-    t0 = time.perf_counter()
     first = compute_coefficients(mesh, **kw)
-    t_first = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    second = compute_coefficients(mesh, **kw)
-    t_second = time.perf_counter() - t0
-    assert t_second < 0.5 and t_second < t_first
+    with caplog.at_level(logging.INFO, logger="moorline.hydro"):
+        second = compute_coefficients(mesh, **kw)
+    assert "cache hit" in caplog.text and "cache miss" not in caplog.text
     for var in first.data_vars:
         np.testing.assert_array_equal(second[var].values, first[var].values)
     base = dict(lids=[False], omega=kw["omega"], wave_direction=[0.0], water_depth=np.inf, rho=RHO, g=G,

@@ -14,7 +14,6 @@ Three kinds of check:
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -29,6 +28,7 @@ from moorline.quasistatic.catenary import (
     STATUS_SLACK_WEIGHTLESS,
     STATUS_TOO_LONG,
     CatenaryStatus,
+    _solve,
     catenary,
     catenary_nodes,
     catenary_profile,
@@ -460,10 +460,13 @@ def test_iteration_cap_is_respected():
 
 
 def test_nasty_cases_finish_quickly():
+    """3000 random lines (lengths 0.1 m to 10 km, any slope, weights of either sign over eleven
+    decades, EA over twelve) and four extreme ones: each solve converges or is reported too long,
+    in at most 50 Newton iterations of the 1000 allowed (measured: 14 at most for the random ones,
+    19 for the extreme ones). Counted, not timed; the speed is benchmarked elsewhere."""
     rng = np.random.default_rng(1234)
-    catenary_solve(1.0, 1.0, 2.0, 1e3, 1.0, False, 1e-5, 1000)  # compiled before timing
-    t0 = time.perf_counter()
     n_ok = 0
+    worst = 0
     for _ in range(3000):
         L = 10 ** rng.uniform(-1, 4)
         ang = rng.uniform(-math.pi / 2, math.pi / 2)
@@ -471,10 +474,11 @@ def test_nasty_cases_finish_quickly():
         XF, ZF = chord * math.cos(ang), chord * math.sin(ang)
         W = 10 ** rng.uniform(-6, 5) * rng.choice([-1.0, 1.0])
         EA = 10 ** rng.uniform(0, 12)
-        HF, VF, status = catenary_solve(XF, ZF, L, EA, W, bool(rng.random() < 0.5), 1e-5, 1000)
+        HF, VF, status, iterations = _solve(XF, ZF, L, EA, W, bool(rng.random() < 0.5), 1e-5, 1000)
         assert status in (STATUS_OK, STATUS_TOO_LONG)
         n_ok += status == STATUS_OK
-    assert time.perf_counter() - t0 < 5.0
+        worst = max(worst, iterations)
+    assert worst <= 50
     assert n_ok > 1500
     # near-vertical, hugely slack, extremely soft and extremely light lines
     for args in (
@@ -483,6 +487,5 @@ def test_nasty_cases_finish_quickly():
         (1.0, 0.0, 1e6, 1e8, 700.0, False),
         (50.0, 1e-10, 49.0, 1e8, 700.0, True),
     ):
-        t0 = time.perf_counter()
-        catenary_solve(*args, 1e-5, 1000)
-        assert time.perf_counter() - t0 < 0.1
+        HF, VF, status, iterations = _solve(*args, 1e-5, 1000)
+        assert status == STATUS_OK and iterations <= 50

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -121,10 +120,7 @@ def test_offset_curve_restoring_force_is_the_integral_of_the_stiffness():
     error (h^2/12 max|k'| L ~ 1e-4 relative here, bound 1e-3)."""
     qs = QuasiStaticModel(deck("oc3_bridle"))
     a = np.linspace(0.0, 30.0, 100)
-    t0 = time.perf_counter()
-    ds = offset_curve(qs, a, heading=30.0)
-    wall = time.perf_counter() - t0
-    assert wall < 1.0  # issue 15: an offset curve of 100 points in under a second (typically 15 ms)
+    ds = offset_curve(qs, a, heading=30.0)  # its speed: benchmarks/bench_quasistatic.py
     F = ds.restoring.values
     k = ds.stiffness.values
     integral = np.concatenate([[0.0], np.cumsum(0.5 * (k[1:] + k[:-1]) * np.diff(a))])

@@ -7,7 +7,6 @@ from __future__ import annotations
 import copy
 import logging
 import math
-import time
 
 import numpy as np
 import pytest
@@ -214,31 +213,23 @@ def test_clump_on_the_seabed_is_explained():
         QuasiStaticModel(read_deck_text(text)).solve()
 
 
-def _median_time(f, n):
-    ts = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        f()
-        ts.append(time.perf_counter() - t0)
-    return float(np.median(ts))
-
-
-def test_time_domain_interface_is_fast():
-    """Warm-started solve + stiffness at a moving pose: the spar on three catenaries well under
-    100 us, the 3-bridle system (9 lines, 3 junctions) under 1 ms (medians; typical 20 and 60 us)."""
-    for name, limit in (("oc3_spar", 100e-6), ("oc3_bridle", 1e-3)):
+def test_time_domain_interface_warm_starts():
+    """Solve + stiffness at a moving pose, as a time-domain host calls it: the spar on three
+    catenaries has no network to solve (0 iterations), the 3-bridle system (9 lines, 3 junctions)
+    warm-starts from the last solution and needs at most 3 Newton iterations per call of 400 along
+    a smooth motion (7 from the deck's start). Counted, not timed: the speed (typically 20 and
+    60 us per call) is in benchmarks/bench_quasistatic.py."""
+    for name, first_max, warm_max in (("oc3_spar", 0, 0), ("oc3_bridle", 10, 3)):
         qs = QuasiStaticModel(deck(name))
         x0 = qs.deck_coupled_positions()
-        qs.solve(x0)
-        k = [0]
-
-        def step(qs=qs, x0=x0, k=k):
-            k[0] += 1
-            a = 0.01 * k[0]
-            qs.solve(x0 + np.r_[3.0 * math.sin(a), 1.0 * math.cos(a), 0.2 * math.sin(2 * a), 0.0, 0.02 * math.sin(a),
-                                0.01 * math.cos(a)])
-
-        assert _median_time(step, 400) < limit
+        assert qs.solve(x0).iterations <= first_max
+        worst = 0
+        for k in range(1, 401):
+            a = 0.01 * k
+            sol = qs.solve(x0 + np.r_[3.0 * math.sin(a), 1.0 * math.cos(a), 0.2 * math.sin(2 * a), 0.0,
+                                      0.02 * math.sin(a), 0.01 * math.cos(a)])
+            worst = max(worst, sol.iterations)
+        assert worst <= warm_max, name
 
 
 def test_euler_stiffness_linearises_the_pose_vector():

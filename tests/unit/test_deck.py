@@ -478,13 +478,13 @@ def test_repeated_option_last_wins():
 
 def test_not_acted_on_options_warn_once(caplog):
     extra = """\
-2        UnifyCurrentGrid
+x.dat    WaterKin
 1        inertialF
 2        inertialF    again: one warning per key
 """
     with caplog.at_level(logging.DEBUG, logger="moorline.io"):
         m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n" + extra), path="x.txt")
-    assert m.options.not_acted_on == {"UnifyCurrentGrid": "2", "inertialF": "2"}
+    assert m.options.not_acted_on == {"WaterKin": "x.dat", "inertialF": "2"}
     warnings = [r for r in caplog.records if r.levelno == logging.WARNING]
     assert len(warnings) == 2
     assert sum("inertialF" in r.getMessage() for r in warnings) == 1
@@ -516,6 +516,31 @@ def test_wave_and_current_options_need_their_files(tmp_path):
     deck.write_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n1        Currents\n"))
     with pytest.raises(DeckError, match="current_profile.txt"):
         read_deck(deck)
+
+
+def test_unify_current_grid_is_acted_on(tmp_path):
+    """UnifyCurrentGrid 0 keeps a grid current apart from the wave grid (MoorDyn's wavekin_3_curr5
+    deck; issue 18: read and ignored before, 5e-3 off MoorDyn from the same start, now 1e-10)."""
+    data = Path(__file__).resolve().parents[1] / "data" / "waterkin"
+    for name in ("wave_frequencies.txt", "water_grid.txt", "current_profile.txt"):
+        (tmp_path / name).write_bytes((data / name).read_bytes())
+    deck = tmp_path / "u.txt"
+    (tmp_path / "w").mkdir()
+    base = SMALL.replace("100     WtrDpth\n", "100     WtrDpth\n2 WaveKin\n1 Currents\n")
+    for text, on_grid in ((base, True), (base.replace("1 Currents\n", "1 Currents\n1 UnifyCurrentGrid\n"), True),
+                          (base.replace("1 Currents\n", "1 Currents\n0 UnifyCurrentGrid\n"), False)):
+        deck.write_text(text)
+        m = read_deck(deck)
+        assert m.env.current.on_wave_grid is on_grid and m.options.not_acted_on == {}
+        # and a written deck says so again
+        out = tmp_path / "w" / "u.txt"
+        write_deck(m, out)
+        assert read_deck(out).env.current.on_wave_grid is on_grid
+        assert ("UnifyCurrentGrid" in out.read_text()) is (not on_grid)
+    deck.write_text(base.replace("1 Currents\n", "1 Currents\nyes UnifyCurrentGrid\n"))
+    with pytest.raises(DeckError, match=r"UnifyCurrentGrid.*expected 0 or 1.*'yes'") as ei:
+        read_deck(deck)
+    assert "u.txt" in str(ei.value)
 
 
 def test_neutral_not_acted_on_options_do_not_warn(caplog):

@@ -195,13 +195,35 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
 
 
 # ---------------------------------------------------------------------------------------------- Newton statics
-@kernel(inline="always")
-def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
-    """J = diag I - df/dx at the positions IW.y0 (zero velocities), factored. IW.f0 must hold the
-    derivative at IW.y0. Returns the LU status."""
+@kernel
+def static_eval(y, A, IW, L, R, P, E, B, Mo, W, F, FW, jac, diag):
+    """Newton statics' one compiled evaluation (one kernel, so the derivative and its closure are
+    compiled once for it; the Newton loop that calls it is :func:`newton_statics`).
+
+    ``jac`` False: the residual, f at the positions of ``y`` with zero velocities (line states
+    kept) into IW.f0 and -f's accelerations into IW.G. Returns (0, max |acc|, L2 norm).
+
+    ``jac`` True: J = diag I - df/dx at the positions IW.y0 (zero velocities) by coloured finite
+    differences, factored; IW.f0 must hold the derivative at IW.y0. ``y`` is left at IW.y0.
+    Returns (LU status, 0, 0).
+    """
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
+    if not jac:
+        for i in range(uoff, xs_offset(R)):  # the line states are kept (see stationary_solve)
+            y[i] = 0.0
+        rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
+        IW.stat[S_NRHS] += 1
+        big = 0.0
+        s = 0.0
+        for i in range(IW.G.size):
+            g = IW.f0[uoff + i]
+            IW.G[i] = -g
+            s += g * g
+            if abs(g) > big or not np.isfinite(g):
+                big = abs(g) if np.isfinite(g) else np.inf
+        return 0, big, math.sqrt(s)
     nd = IW.a1.size
     fd_steps(IW, n3, n6, 1e-7, 1.0)
     clear(IW)
@@ -223,35 +245,20 @@ def _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, diag):
     IW.stat[S_NJAC] += 1
     for i in range(y.size):
         y[i] = IW.y0[i]
-    return factor(A, IW)
+    return factor(A, IW), 0.0, 0.0
 
 
-@kernel(inline="always")
-def _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6):
-    """f at the positions of ``y`` with zero velocities into IW.f0; returns (max |acc|, L2 norm)."""
-    uoff = 3 * n3 + 7 * n6
-    for i in range(uoff, xs_offset(R)):  # the line states are kept (see stationary_solve)
-        y[i] = 0.0
-    rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
-    IW.stat[S_NRHS] += 1
-    big = 0.0
-    s = 0.0
-    for i in range(IW.G.size):
-        g = IW.f0[uoff + i]
-        IW.G[i] = -g
-        s += g * g
-        if abs(g) > big or not np.isfinite(g):
-            big = abs(g) if np.isfinite(g) else np.inf
-    return big, math.sqrt(s)
-
-
-@kernel
 def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter):
     """Static equilibrium by pseudo-transient continuation of Newton's method: each iteration
     solves (I / tau^2 - df/dx) dx = f(x) at zero velocities, with tau^2 grown by the ratio of
     successive residual norms (switched evolution relaxation) so the iterations start as heavily
     damped dynamics from a poor guess and end as plain Newton. An iteration that more than doubles
     the residual is rejected and retried with tau^2 / 4.
+
+    The loop is Python around compiled kernels (:func:`static_eval`, ``solve_increment``,
+    ``displace``): it runs a few tens of iterations of milliseconds each, so the Python costs
+    nothing that counts, while a compiled loop cost a first run some 13 s of compile time (the
+    derivative's closure optimised once more for it).
 
     Returns
     -------
@@ -262,11 +269,19 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
     residual : float
         Max residual acceleration at the end [m/s^2].
     """
-    n3 = R.dims[0]
-    n6 = R.dims[1]
-    nd = IW.a1.size
+    n3 = int(R.dims[0])
+    n6 = int(R.dims[1])
+    args = (A, IW, L, R, P, E, B, Mo, W, F, FW)
+
+    def residual():
+        _, b, n = static_eval(y, *args, False, 0.0)
+        return b, n
+
+    def jacobian(diag):
+        return static_eval(y, *args, True, diag)[0]
+
     tau2 = tau0 * tau0
-    big, nrm = _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
+    big, nrm = residual()
     if not np.isfinite(nrm):
         return -1, 0, big
     dxmax = np.inf
@@ -274,31 +289,25 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
     while it < max_iter:
         if big <= acc_tol and dxmax <= dx_tol:
             return 1, it, big
-        for i in range(y.size):
-            IW.y0[i] = y[i]
+        IW.y0[:y.size] = y
         # IW.f0 holds f at y0
-        if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, 1.0 / tau2) != 0:
+        if jacobian(1.0 / tau2) != 0:
             return -1, it, big
         while True:
             solve_increment(A, IW)
             it += 1
-            dxmax = 0.0
-            for i in range(nd):
-                d = abs(IW.da[i])
-                if d > dxmax:
-                    dxmax = d
+            dxmax = float(np.max(np.abs(IW.da), initial=0.0, where=~np.isnan(IW.da)))
             displace(IW.y0, IW.da, y, n3, n6, 1.0)
-            big1, nrm1 = _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
+            big1, nrm1 = residual()
             if np.isfinite(nrm1) and (nrm1 <= 2.0 * nrm or tau2 < 1e-12):
                 break
             # reject: back to y0 with a smaller pseudo step
-            for i in range(y.size):
-                y[i] = IW.y0[i]
+            y[:] = IW.y0[:y.size]
             tau2 *= 0.25
             if it >= max_iter:
                 return 0, it, big
-            _static_residual(y, IW, L, R, P, E, B, Mo, W, F, FW, n3, n6)
-            if _static_jacobian(y, A, IW, L, R, P, E, B, Mo, W, F, FW, 1.0 / tau2) != 0:
+            residual()
+            if jacobian(1.0 / tau2) != 0:
                 return -1, it, big
         if not np.isfinite(nrm1):
             return -1, it, big1

@@ -442,7 +442,6 @@ def _never(v, opts):
 #: A neutral value changes nothing and is only logged at debug level; any other value is stored in
 #: ``model.options.not_acted_on`` with one warning.
 NOT_ACTED_ON = {
-    "UnifyCurrentGrid": ((), _equals(1.0)),
     "disableOutTime": ((), _always),
     "WaterKin": ((), _never),
     "inertialF": ((), _equals(0.0)),
@@ -454,7 +453,7 @@ NOT_ACTED_ON = {
 SEABED_FILE_KEYS = ("SeafloorFile",)
 
 OPTION_KEYS: dict[str, str] = {"seafloorfile": "SeafloorFile", "wavekin": "WaveKin", "currents": "Currents",
-                                 "dtwave": "dtWave"}
+                                 "dtwave": "dtWave", "unifycurrentgrid": "UnifyCurrentGrid"}
 for _key, _aliases, *_ in OPTION_TABLE:
     for _k in (_key, *_aliases):
         OPTION_KEYS[_k.lower()] = _key

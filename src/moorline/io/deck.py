@@ -515,7 +515,8 @@ class _Reader:
                         self.file, row.line, typed, value)
 
     def read_water(self, given):
-        """WaveKin, Currents and dtWave: the waves and current and the files they name (spec 4.1)."""
+        """WaveKin, Currents, dtWave and UnifyCurrentGrid: the waves and current and the files they name
+        (spec 4.1, 4.8)."""
         from .waterkin import DT_WAVE, water_from_options
 
         def whole(key, default):
@@ -540,13 +541,21 @@ class _Reader:
             dt_wave = parse_number(value)
             if dt_wave is None or not dt_wave > 0:
                 raise self.error(f"field {typed!r} of OPTIONS: expected a number > 0, got {value!r}", row, typed)
+        unify = True
+        if "UnifyCurrentGrid" in given:
+            value, row, typed = given["UnifyCurrentGrid"]
+            self.option_rows["UnifyCurrentGrid"] = row
+            if value.strip() not in ("0", "1"):
+                raise self.error(f"field {typed!r} of OPTIONS: expected 0 or 1 (the only values MoorDyn reads), got "
+                                 f"{value!r}", row, typed)
+            unify = value.strip() == "1"
         o = self.model.options
         o.WaveKin, o.Currents, o.dtWave = wave_kin, currents, dt_wave
         if wave_kin == 0 and currents == 0:
             return
         try:
             waves, current = water_from_options(wave_kin, currents, self.base_dir, self.model.env.depth or None,
-                                                dt_wave=dt_wave)
+                                                dt_wave=dt_wave, unify_current_grid=unify)
         except DeckError as e:
             key = e.field if e.field in given else ("WaveKin" if "WaveKin" in given else "Currents")
             row = given[key][1] if key in given else None

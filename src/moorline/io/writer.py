@@ -336,6 +336,9 @@ class _Writer:
             out.append((str(cur), "Currents"))
         if o.dtWave != DT_WAVE:
             out.append((_fmt(o.dtWave), "dtWave"))
+        if (env.current is not None and env.waves is not None and env.waves.evaluation == "grid"
+                and not env.current.on_wave_grid):
+            out.append(("0", "UnifyCurrentGrid"))
         return out
 
     def options_v1(self) -> list[str]:

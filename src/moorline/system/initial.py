@@ -444,8 +444,9 @@ def quasistatic_equilibrium(sys: System, *, tol: float = 1e-7, max_outer: int = 
 def start_from_moordyn_state(sys: System, path) -> None:
     """Put MoorDyn's saved state ``path`` (the deck's ``fileIC``, a MoorDyn-C SaveState file; see
     :mod:`moorline.io.moordyn_state`) into the state: the internal nodes of every line and the free
-    points, positions and velocities. Bodies and rods with states of their own (free, pinned) are
-    not read: MoorDyn's rows for them are refused unless they hold nothing."""
+    points, positions and velocities, and the lift phase of the internal nodes of VIV lines. Bodies
+    and rods with states of their own (free, pinned) are not read: MoorDyn's rows for them are
+    refused unless they hold nothing."""
     version, objs = read_moordyn_state(path)
     m = sys.model
     nb, nr, npnt, nl = len(m.bodies), len(m.rods), len(m.points), len(m.lines)
@@ -469,9 +470,16 @@ def start_from_moordyn_state(sys: System, path) -> None:
     points = np.vstack([objs[nb + nr + p] for p in range(npnt)]) if npnt else np.zeros((0, 6))
     L = sys.layout.lines
     lines = []
+    phases = []  # (index in the state, VIV phase) of the internal nodes of VIV lines
+    xo = 6 * int(R.dims[0]) + 13 * int(R.dims[1]) + int(R.dims[2])  # linestates.xs_offset
     for li in range(nl):
         a = objs[nb + nr + npnt + li]
         n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
+        viv = n1 - n0 > 2 and bool(np.all(L.node_xs[n0 + 1:n1 - 1] >= 0))
+        if viv and a.shape == (n1 - n0 - 2, 7):
+            # MoorDyn's VIV lines save each internal node's lift phase after its position and velocity
+            phases += [(xo + int(L.node_xs[n]), float(a[n - n0 - 1, 6])) for n in range(n0 + 1, n1 - 1)]
+            a = a[:, :6]
         if a.shape != (n1 - n0 - 2, 6):
             raise DeckError(f"line {li + 1}: expected {n1 - n0 - 2} x 6 values (position and velocity of each "
                             f"internal node), got {a.shape[0]} x {a.shape[1]} (MoorDyn writes more for lines "
@@ -480,5 +488,7 @@ def start_from_moordyn_state(sys: System, path) -> None:
         lines.append(np.pad(a, ((1, 1), (0, 0))))  # MoorDyn saves the internal nodes: the ends are not state
     # the state rows only (the initial-condition solve that follows evaluates and restarts the scheme)
     sys._put_state([a[:, :3] for a in lines], [a[:, 3:] for a in lines], points[:, :3], points[:, 3:])
+    for k, phi in phases:
+        sys.y[k] = phi
     sys.ic_report["file_ic"] = str(path)
     log.info("started from MoorDyn's saved state %s (MoorDyn %d.%d)", path, *version)
