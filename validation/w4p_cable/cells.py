@@ -29,6 +29,7 @@ CELLS_PAPER = HERE / "cells_1500s"  # --paper-length: 1500 s, 900-1500 s analyse
 #: the per-node arrays kept (node order from the WEC), and the scalar statistics
 ARRAYS = ("s", "theta", "damage_rate", "curvature_max", "curvature_min", "tension_max", "tension_min")
 SCALARS = ("min_clearance", "min_clearance_node", "heave_range", "surge_range", "surge_mean", "pitch_range", "z_mean",
+           "roll_range", "yaw_range",
            "cable_z_min", "periodicity", "wall_time_s", "H", "T")
 OPTIONAL = ("scheme_used", "fallback_reason")  # text, when the case says how it was run
 DIGITS = 6  # significant digits stored (the life moves by < 1e-5 relative)
@@ -54,7 +55,7 @@ def inputs(spec, Hs: float, Tz: float) -> dict:
     return {"design": {k: float(v) for k, v in sorted(spec.design.items())}, "Hs": float(Hs), "Tz": float(Tz),
             "H": float(spec.H), "T": float(spec.T), "duration": float(spec.duration), "window": float(spec.window),
             "dtM": float(spec.dtM), "samples_per_period": int(spec.samples_per_period),
-            "dims": {k: float(v) for k, v in sorted(spec.dims.items())}}
+            "dims": {k: float(v) for k, v in sorted(spec.dims.items())}, "yaw_damping": float(spec.yaw_damping)}
 
 
 def key(spec, Hs: float, Tz: float, fingerprint: str) -> str:

@@ -127,7 +127,7 @@ def run_cases(pending, *, workers: int, scheduler, deadline, store, fingerprint)
 
 
 
-def spec_for(design, Hs, Tz, *, quick, paper, coeffs, dims, label=""):
+def spec_for(design, Hs, Tz, *, quick, paper, coeffs, dims, label="", yaw_damping=w4p.YAW_DAMPING):
     T = Tz
     if paper:
         duration, window = 1500.0, 600.0
@@ -140,7 +140,8 @@ def spec_for(design, Hs, Tz, *, quick, paper, coeffs, dims, label=""):
         window = n_per * T
         duration = transient + window
     return w4p.CaseSpec(dict(design), Hs / math.sqrt(2.0), T, label=label or f"Hs {Hs} Tz {Tz}", duration=duration,
-                        window=window, dtM=min(0.1, T / 100.0), coefficients=coeffs, dims=dims)
+                        window=window, dtM=min(0.1, T / 100.0), coefficients=coeffs, dims=dims,
+                        yaw_damping=yaw_damping)
 
 
 def keep_mask(n_nodes: int) -> np.ndarray:
@@ -205,6 +206,9 @@ def main(argv=None) -> int:
     ap.add_argument("--workers", type=int, default=1, help="local worker processes (default 1)")
     ap.add_argument("--scheduler", default=None, help="a Dask scheduler address: run the cases on that cluster")
     ap.add_argument("--paper-length", action="store_true", help="1500 s per case, 900-1500 s analysed")
+    ap.add_argument("--yaw-damping", type=float, default=w4p.YAW_DAMPING, metavar="N_M_S_PER_RAD",
+                    help=f"linear yaw damping of the buoy (default {w4p.YAW_DAMPING:g}, README 'Yaw damping'; 0: the "
+                    "undamped buoy, whose yaw is unstable in long runs); another value keeps its own cell store")
     ap.add_argument("--no-sweep", action="store_true", help="skip the parametric sweep (full mode)")
     ap.add_argument("--no-scatter", action="store_true", help="run only the single condition and the sweep; the "
                     "scatter life is assembled from the cells already stored")
@@ -240,7 +244,7 @@ def main(argv=None) -> int:
         if k not in cases:
             cases[k] = {"i": len(cases), "name": name, "design": dict(design), "Hs": Hs, "Tz": Tz, "p": p,
                         "spec": spec_for(design, Hs, Tz, quick=a.quick, paper=a.paper_length, coeffs=coeffs,
-                                         dims=dims, label=f"{name} Hs {Hs} Tz {Tz}")}
+                                         dims=dims, label=f"{name} Hs {Hs} Tz {Tz}", yaw_damping=a.yaw_damping)}
         return cases[k]
 
     scat = {name: [case(name, design, Hs, Tz, p) for Hs, Tz, p in wanted] for name, design in w4p.DESIGNS.items()}
@@ -250,6 +254,8 @@ def main(argv=None) -> int:
 
     # the paper-length cases have their own store (the same cell under another run length is another case)
     root = cells.CELLS_PAPER if a.paper_length else cells.CELLS
+    if a.yaw_damping != w4p.YAW_DAMPING:  # another buoy: its own store, the committed cells stay as they are
+        root = root.with_name(f"{root.name}_yaw{a.yaw_damping:g}")
     store = None if a.quick else root
     results: dict[int, dict] = {}
     if not a.quick and not a.fresh:
@@ -287,7 +293,8 @@ def main(argv=None) -> int:
     res: dict = {"hull": dims, "probability_excluded_survival": excluded, "model_fingerprint": fingerprint,
                  "case_settings": {"transient_s": single[0]["spec"].duration - single[0]["spec"].window,
                                    "dtM_s": "min(0.1, T/100)", "periods_analysed": "window / T",
-                                   "scheme": "GenAlpha", "paper_length": bool(a.paper_length)}}
+                                   "scheme": "GenAlpha", "paper_length": bool(a.paper_length),
+                                   "yaw_damping_n_m_s_per_rad": float(a.yaw_damping)}}
     life, life_lo, life_est, single_lt, per, coverage = {}, {}, {}, {}, {}, {}
     p_range = float(sum(p for *_, p in in_range))
     for name in w4p.DESIGNS:
@@ -405,6 +412,15 @@ def main(argv=None) -> int:
                   "together (largest over the two designs)", max(minor_sum.values()), hi=0.01,
                   why="a few per cent on the stress ranges of cells that hold 1 % of the damage moves the life by "
                       "well under 1 %")
+    # the buoy's yaw mode is unstable without damping (README, "Yaw damping"): the analysed records
+    # must have the buoy at rest in yaw and roll (the model is symmetric about y = 0)
+    res["buoy_yaw_range_max_deg"] = math.degrees(max(o["yaw_range"] for o in allouts))
+    res["buoy_roll_range_max_deg"] = math.degrees(max(o["roll_range"] for o in allouts))
+    if a.yaw_damping > 0:
+        chk.bound("the buoy stays at rest in yaw in every analysed record (largest yaw range, deg)",
+                  res["buoy_yaw_range_max_deg"], hi=0.1,
+                  why="waves and current along the symmetry plane excite no yaw; a growing yaw (the undamped buoy's "
+                      "instability reaches +-60-70 deg) changes the cable's curvature and life")
     res["cable_z_min_m"] = min(o["cable_z_min"] for o in allouts)
     chk.bound("the cable hangs free of the 50 m deep seabed (lowest node height)", res["cable_z_min_m"],
               lo=-w4p.DEPTH + 2 * w4p.CABLE["d"], why="the paper's free-hanging configuration")

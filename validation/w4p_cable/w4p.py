@@ -34,6 +34,12 @@ FLOAT_RADIUS = 4.0
 #: assumed: radius of gyration about the CG in roll/pitch and yaw [m]
 GYRATION = (8.0, 8.0, 2.5)
 TUBE_CD = 1.0  # assumed Morison drag coefficient of the tube
+#: assumed (the paper is silent): linear yaw damping of the buoy [N m s/rad], for the viscous yaw
+#: damping that the axisymmetric potential-flow hull and the tube's Morison strips do not give.
+#: Without it the yaw is parametrically unstable in waves (single condition: growth 0.0255 1/s,
+#: threshold 1.13e5 N m s/rad; the hull's skin friction gives 7.6e3): 2e5 is 17 % of critical,
+#: 1.8 x the threshold (README, "Yaw damping, and the run length"); 0 reproduces the instability
+YAW_DAMPING = 2.0e5
 # ---------------------------------------------------------------- moorings
 CHAIN = {"L": 100.0, "d": 0.086, "w": 45.0, "EA": 193.0e6, "Cd": 2.5, "Ca": 3.8, "CdAx": 0.5, "N": 20}
 FAIRLEADS = [(sx * 1.24, sy * 1.24, -5.0) for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
@@ -112,6 +118,7 @@ class CaseSpec:
     samples_per_period: int = 40
     coefficients: object = None
     dims: dict = field(default_factory=hull_dimensions)
+    yaw_damping: float = YAW_DAMPING
     keep_series: bool = False
 
 
@@ -148,6 +155,7 @@ def build(spec: CaseSpec, *, sea: bool = True) -> Model:
     m.add_hydro([b], ds)
     damp = np.zeros(6)
     damp[2] = PTO_HEAVE
+    damp[5] = spec.yaw_damping
     tube = MorisonStrip((0.0, 0.0, -DRAFT), (0.0, 0.0, -dims["float_draft"]), 2 * dims["tube_radius"],
                                        TUBE_CD, 14)
     m.add_floating(b, linear_damping=damp, morison=[tube])
@@ -273,6 +281,7 @@ def run_case(spec: CaseSpec) -> dict:
            "min_clearance": float(clear[:, keep].min()), "min_clearance_node": int(keep[np.argmin(clear[:, keep].min(
                axis=0))]), "heave_range": float(np.ptp(pose[:, 2])), "surge_range": float(np.ptp(pose[:, 0])),
            "surge_mean": float(np.mean(pose[:, 0])), "pitch_range": float(np.ptp(pose[:, 4])),
+           "roll_range": float(np.ptp(pose[:, 3])), "yaw_range": float(np.ptp(pose[:, 5])),
            "z_mean": float(np.mean(pose[:, 2])),
            "cable_z_min": float(pos[:, :, 2].min()), "periodicity": periodicity, "ic": dict(s.ic_report),
            "wall_time_s": time.perf_counter() - wall0}
