@@ -59,7 +59,8 @@ def run_fuzzer(cases: int, seed: int) -> list[dict]:
                 warming = row["warmup"]
             elif "warmed" in row:
                 # "budget": the deck's steps exceed the fuzzer's budget, so its cases are not run either
-                assert row["outcome"] in ("ok", "budget"), f"the unmutated deck {row['warmed']} did not run: {row['outcome']}"
+                assert row["outcome"] in ("ok", "budget"), \
+                    f"the unmutated deck {row['warmed']} did not run: {row['outcome']}"
                 warming = None
             elif "start" in row:
                 current = row["start"]
