@@ -471,7 +471,7 @@ def start_from_moordyn_state(sys: System, path) -> None:
     L = sys.layout.lines
     lines = []
     phases = []  # (index in the state, VIV phase) of the internal nodes of VIV lines
-    xo = 6 * int(R.dims[0]) + 13 * int(R.dims[1]) + int(R.dims[2])  # linestates.xs_offset
+    xo = sys.layout.xs_offset
     for li in range(nl):
         a = objs[nb + nr + npnt + li]
         n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
