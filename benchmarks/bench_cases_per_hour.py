@@ -48,25 +48,7 @@ W4P = ROOT / "validation" / "w4p_cable"
 sys.path.insert(0, str(W4P.parent))
 sys.path.insert(0, str(W4P))
 
-from numba.core import event as _ev  # noqa: E402
-
-
-class _CompileCounter(_ev.Listener):
-    """Counts numba's ``numba:compile`` events: one per kernel compiled in this process (a kernel
-    loaded from the on-disk cache fires none)."""
-
-    def __init__(self):
-        self.n = 0
-
-    def on_start(self, event):
-        self.n += 1
-
-    def on_end(self, event):
-        pass
-
-
-COMPILES = _CompileCounter()
-_ev.register("numba:compile", COMPILES)  # in this process and in every spawned worker (re-imports this module)
+_COMPILES = []  # the kernels numba compiled in this process (see _count_compiles)
 _FIRST = [True]
 
 #: the study's sweep of cable designs (validation/w4p_cable/run.py SWEEP) and five scatter cells (Hs, Tz)
@@ -92,17 +74,35 @@ def case_specs(n: int, duration: float) -> list:
     return out
 
 
+def _count_compiles() -> None:
+    """Count numba's ``numba:compile`` events in this process: one per kernel compiled (a kernel
+    loaded from the on-disk cache fires none). Registered on the first case, after the process
+    has read ``NUMBA_CACHE_DIR`` (numba reads it once, when first imported)."""
+    from numba.core import event
+
+    class Counter(event.Listener):
+        def on_start(self, ev):
+            _COMPILES.append(ev.data["dispatcher"].py_func.__qualname__)
+
+        def on_end(self, ev):
+            pass
+
+    event.register("numba:compile", Counter())
+
+
 def timed_case(spec) -> dict:
     """Run one case in this (worker) process; return its result with the worker's bookkeeping."""
     import cells
 
     first = _FIRST[0]
     _FIRST[0] = False
-    n0 = COMPILES.n
+    if first:
+        _count_compiles()
+    n0 = len(_COMPILES)
     t0, c0 = time.time(), time.process_time()
     out = cells.run_unless_late(spec)
     return {"pid": os.getpid(), "first": first, "start": t0, "end": time.time(), "cpu": time.process_time() - c0,
-            "compiles": COMPILES.n - n0, "cache_dir": _cache_dir(), "label": spec.label,
+            "compiles": len(_COMPILES) - n0, "cache_dir": _cache_dir(), "label": spec.label,
             "damage_rate_max": float(out["damage_rate"].max()), "tension_max": float(out["tension_max"].max()),
             "scheme": out.get("scheme_used", "")}
 
@@ -155,7 +155,7 @@ def cold_compile(duration: float) -> dict:
         p = subprocess.run([sys.executable, __file__, "--one-case", "--duration", repr(duration)], env=env,
                            capture_output=True, text=True, check=True)
         out.append(json.loads(p.stdout.strip().splitlines()[-1]))
-    os.environ["NUMBA_CACHE_DIR"] = cache  # the batches' workers inherit it
+    os.environ["NUMBA_CACHE_DIR"] = cache  # this process (numba not imported yet) and the workers use it
     return {"cache_dir": cache, "empty_cache": out[0], "filled_cache": out[1]}
 
 
@@ -180,6 +180,8 @@ def main(argv=None) -> int:
     print(f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} on {os.cpu_count()} CPUs"
           + ("  (above 1.5: timings unreliable)" if load[0] > 1.5 else ""), flush=True)
     if a.cold:
+        if "numba" in sys.modules:
+            raise RuntimeError("numba was imported before NUMBA_CACHE_DIR was set")
         cc = cold_compile(a.duration)
         e, f = cc["empty_cache"], cc["filled_cache"]
         print(f"one-off compile: first case {e['wall']:.1f} s with an empty cache ({e['compiles']} kernels compiled), "
