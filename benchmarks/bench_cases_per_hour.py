@@ -19,14 +19,17 @@ numba's on-disk cache), so every batch starts from a warm cache shared by the wo
 inherits). ``--cold`` measures the one-off compile time first: the same case in a fresh process
 with an empty cache (a temporary ``NUMBA_CACHE_DIR``), then again with it filled.
 
-Reported per batch: wall time, cases per hour, speed-up over one worker; per worker process: the
-cases it ran, its busy time, how long it sat idle at the end of the batch, its first case's wall
-time against its others' median (the first pays the imports and the cache load), and the number
-of numba compilations it did (from numba's ``numba:compile`` events, which fire only when a
-kernel is compiled, not when it is loaded from the cache): 0 means the cache was shared. Wall
-times: run it on a quiet machine (the load average is printed; above about 1.5 on 2 cores the
-timings are not reliable). ``--quick``: 4 cases of 10 s on 1 and 2 workers, a check that the
-script works (seconds, once compiled), not a measurement.
+Reported per batch: wall time, cases per hour, speed-up over one worker, the pool's start-up and
+shut-down; per worker process: the cases it ran, its busy time, how long it sat idle while
+another finished the batch's last case, its first case's wall time against its others' median
+(the first pays the imports and the cache load), and the number of numba compilations it did
+(from numba's ``numba:compile`` events, which fire only when a kernel is compiled, not when it
+is loaded from the cache): 0 means the cache was shared. Wall times: run it on a quiet machine
+(the load average is printed; above about 1.5 on 2 cores the timings are not reliable).
+Every process runs its BLAS single-threaded (``--blas-threads``): with OpenBLAS's threads a W4P
+case spent 3.7 s of CPU instead of 0.9 s (its state-space fits' SVDs, 3.97 s against 0.045 s,
+load 6-7), which would flatter the speed-up of more workers. ``--quick``: 4 cases of 10 s on 1
+and 2 workers, a check that the script works (seconds, once compiled), not a measurement.
 """
 
 from __future__ import annotations
@@ -49,6 +52,9 @@ sys.path.insert(0, str(W4P.parent))
 sys.path.insert(0, str(W4P))
 
 _COMPILES = []  # the kernels numba compiled in this process (see _count_compiles)
+#: (moorline.studies.executors.THREAD_VARIABLES, not imported: numpy must not be loaded before they are set)
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+                    "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
 _FIRST = [True]
 
 #: the study's sweep of cable designs (validation/w4p_cable/run.py SWEEP) and five scatter cells (Hs, Tz)
@@ -130,6 +136,7 @@ def run_batch(specs: list, workers: int) -> dict:
     t1 = time.time()
     if errors:
         raise SystemExit("cases failed:\n  " + "\n  ".join(errors))
+    last = max(r["end"] for r in got)  # the batch's last case done (then the pool shuts down: t1)
     per = {}
     for r in got:
         per.setdefault(r["pid"], []).append(r)
@@ -138,10 +145,11 @@ def run_batch(specs: list, workers: int) -> dict:
         rs.sort(key=lambda r: r["start"])
         walls = [r["end"] - r["start"] for r in rs]
         rows.append({"pid": pid, "cases": len(rs), "busy": sum(walls), "cpu": sum(r["cpu"] for r in rs),
-                     "idle_end": t1 - rs[-1]["end"], "first": walls[0],
+                     "idle_end": last - rs[-1]["end"], "first": walls[0],
                      "others_median": statistics.median(walls[1:]) if len(walls) > 1 else math.nan,
                      "compiles": sum(r["compiles"] for r in rs), "cache_dir": rs[0]["cache_dir"]})
-    return {"workers": workers, "wall": t1 - t0, "cases": len(got), "per_worker": rows,
+    return {"workers": workers, "wall": t1 - t0, "cases": len(got), "per_worker": rows, "shutdown": t1 - last,
+            "startup": min(r["start"] for r in got) - t0,
             "results": {r["label"]: (r["damage_rate_max"], r["tension_max"]) for r in got}}
 
 
@@ -166,8 +174,13 @@ def main(argv=None) -> int:
     ap.add_argument("--workers", default="1,2", help="comma-separated worker counts to run the batch on")
     ap.add_argument("--cold", action="store_true", help="measure the one-off compile (an empty numba cache first)")
     ap.add_argument("--quick", action="store_true", help="4 cases of 10 s: checks the script, measures nothing")
+    ap.add_argument("--blas-threads", type=int, default=1, help="threads of each process's BLAS/OpenMP (default 1: "
+                    "every batch runs the same single-threaded cases; the study runner gives each worker its share "
+                    "of the CPUs, so 2 threads with 1 worker on 2 cores)")
     ap.add_argument("--one-case", action="store_true", help=argparse.SUPPRESS)  # (what --cold runs in a new process)
     a = ap.parse_args(argv)
+    for k in THREAD_VARIABLES:  # before numpy is imported here, and inherited by the workers
+        os.environ.setdefault(k, str(a.blas_threads))
     if a.one_case:
         t, c = time.perf_counter(), time.process_time()
         r = timed_case(case_specs(1, a.duration)[0])
@@ -193,7 +206,8 @@ def main(argv=None) -> int:
     warm = timed_case(specs[0])
     print(f"warm-up case in this process: {time.perf_counter() - t:.1f} s, {warm['compiles']} kernels compiled "
           f"(cache: {_cache_dir()})", flush=True)
-    print(f"{a.cases} cases of {a.duration:g} s simulated (W4P buoy, chains and cable, GenAlpha)", flush=True)
+    print(f"{a.cases} cases of {a.duration:g} s simulated (W4P buoy, chains and cable, GenAlpha); BLAS threads "
+          f"per process: {os.environ['OPENBLAS_NUM_THREADS']}", flush=True)
     base = None
     ref = None
     for n in workers:
@@ -207,7 +221,8 @@ def main(argv=None) -> int:
         for r in b["per_worker"]:
             print(f"  {r['pid']:>10} {r['cases']:>5} {r['busy']:>7.1f} {r['cpu']:>7.1f} {r['idle_end']:>13.1f} "
                   f"{r['first']:>12.1f} {r['others_median']:>15.1f} {r['compiles']:>8}")
-        print(f"  cache: {b['per_worker'][0]['cache_dir']}")
+        print(f"  cache: {b['per_worker'][0]['cache_dir']}; pool start-up to first case "
+              f"{b['startup']:.1f} s, shut-down {b['shutdown']:.1f} s")
         if ref is None:
             ref = b["results"]
         elif b["results"] != ref:
