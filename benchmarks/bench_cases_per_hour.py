@@ -27,7 +27,7 @@ another finished the batch's last case, its first case's wall time against its o
 is loaded from the cache): 0 means the cache was shared. Wall times: run it on a quiet machine
 (the load average is printed; above about 1.5 on 2 cores the timings are not reliable).
 Every process runs its BLAS single-threaded (``--blas-threads``): with OpenBLAS's threads a W4P
-case spent 3.7 s of CPU instead of 0.9 s (its state-space fits' SVDs, 3.97 s against 0.045 s,
+case spent up to 3.7 s of CPU instead of 0.9 s (its state-space fits' SVDs, 3.97 s against 0.045 s,
 load 6-7), which would flatter the speed-up of more workers. ``--quick``: 4 cases of 10 s on 1
 and 2 workers, a check that the script works (seconds, once compiled), not a measurement.
 """
