@@ -8,7 +8,8 @@
 - a Dask LocalCluster gives the same results as local processes;
 - the cases run on two local worker processes give the results of the cases run one at a time in
   this process, bit for bit, and the workers compile no kernel (they load them from the numba
-  cache this process filled).
+  cache this process filled); the thread-count variables set for the workers take their share
+  of the CPUs, keep what the user set, and leave this process's environment as it was.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import yaml
 
 from moorline.post import SECONDS_PER_YEAR
 from moorline.studies import Study, run_case, run_sweep
-from moorline.studies.executors import available_cpus, run_local
+from moorline.studies.executors import _worker_threads, available_cpus, run_local
 
 DECK = Path(__file__).resolve().parent / "tiny_cable.dat"
 
@@ -166,6 +167,22 @@ def test_local_workers_match_one_at_a_time_and_share_the_cache(reference):
         assert compiled == [], f"a worker compiled {compiled} instead of loading them from the cache"
         assert threads == expected_threads
         same(ds, xr.load_dataset(reference.out_dir / "cases" / s.filename, engine="h5netcdf"))
+
+
+def test_worker_threads_take_their_share_keep_the_users_and_are_restored(monkeypatch):
+    """The thread-count variables set for starting workers: the workers' share of the CPUs where
+    the user set none, the user's value where set, and this process's environment as it was after."""
+    for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
+        monkeypatch.delenv(k, raising=False)
+    monkeypatch.setenv("MKL_NUM_THREADS", "3")
+    with _worker_threads(2):
+        assert os.environ["OPENBLAS_NUM_THREADS"] == os.environ["OMP_NUM_THREADS"] == str(max(1, available_cpus() // 2))
+        assert os.environ["MKL_NUM_THREADS"] == "3"
+    with _worker_threads(4 * available_cpus()):
+        assert os.environ["OPENBLAS_NUM_THREADS"] == "1"
+    assert "OPENBLAS_NUM_THREADS" not in os.environ and "OMP_NUM_THREADS" not in os.environ
+    assert os.environ["MKL_NUM_THREADS"] == "3"
+    assert 1 <= available_cpus() <= (os.cpu_count() or 1)
 
 
 def test_dask_cluster_matches_local_processes(tmp_path):
