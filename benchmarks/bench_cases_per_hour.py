@@ -35,9 +35,11 @@ and 2 workers, a check that the script works (seconds, once compiled), not a mea
 from __future__ import annotations
 
 import argparse
+import atexit
 import json
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -155,8 +157,10 @@ def run_batch(specs: list, workers: int) -> dict:
 
 def cold_compile(duration: float) -> dict:
     """The one-off compile: one case in a fresh process with an empty NUMBA_CACHE_DIR, then again
-    (a second fresh process) with that cache filled. Leaves the cache directory for the batches."""
+    (a second fresh process) with that cache filled. The batches then use that cache; it is removed
+    when this process ends."""
     cache = tempfile.mkdtemp(prefix="moorline_numba_cache_")
+    atexit.register(shutil.rmtree, cache, ignore_errors=True)  # after the batches (their workers have ended)
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
     out = []
     for _ in range(2):
