@@ -85,7 +85,7 @@ BLEND_WIDTHS = (1.0, 0.1, 0.01)
 CONT_GROWTH = 2.0
 #: relaxation-Newton alternation (:func:`newton_ic`), after the deck's own relaxation budget:
 #: chunks of RELAX_CHUNK [s] of implicit relaxation at steps of RELAX_STEP [s], each from rest
-#: and followed by a short Newton, until Newton converges or RELAX_BUDGET [s] of pseudo time.
+#: and followed by a short Newton, until Newton converges or after RELAX_BUDGET [s] of pseudo time.
 #: The step is independent of dtIC (MoorDyn's convergence-test interval: 1 ms in lifting.txt,
 #: whose slack, undamped line then needs thousands of steps); restarting each chunk from rest
 #: takes out the kinetic energy a lightly damped system would otherwise keep (MHK_RM1's almost
@@ -93,6 +93,10 @@ CONT_GROWTH = 2.0
 RELAX_STEP = 0.5
 RELAX_CHUNK = 5.0
 RELAX_BUDGET = 300.0
+#: ... and it stops early when RELAX_PATIENCE chunks in a row have not halved the best residual
+#: Newton reached (a system with no equilibrium near, such as BodiesAndRods.dat's body without
+#: buoyancy sinking on nylon lines, took 36 s of wall time for the whole budget)
+RELAX_PATIENCE = 6
 
 
 def end_points(layout: Layout, li: int, W) -> tuple[np.ndarray, np.ndarray]:
@@ -385,7 +389,8 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
         status, k, resid = newton(E, opts.dtIC, NEWTON_MAX_IT)
         it += k
         route = "implicit relaxation + newton"
-        while status != 1 and relax < RELAX_BUDGET:
+        best, stale = resid, 0
+        while status != 1 and relax < RELAX_BUDGET and stale < RELAX_PATIENCE:
             # on from the relaxed state, not from Newton's last iterate
             sys.y[:] = y_relaxed
             dt = implicit_relaxation(sys, A, IW, L, R, P, E, B, W, F, FW, t_max=RELAX_CHUNK, h=RELAX_STEP,
@@ -397,6 +402,10 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
             y_relaxed = sys.y.copy()
             status, k, resid = newton(E, RELAX_STEP, NEWTON_FIRST_IT, growth=CONT_GROWTH)
             it += k
+            if resid < 0.5 * best:
+                best, stale = resid, 0
+            else:
+                stale += 1
             route = "relaxation-newton alternation"
     wall = time.perf_counter() - t0
     sys.ic_report.update(method=route, converged=bool(status == 1), iterations=int(it),
