@@ -11,7 +11,13 @@ continuation stages of :func:`moorline.system.initial.newton_ic` must finish the
    exact catenaries) and the polyester's end tensions within 0.2 % (measured 0.08 %). The chain's
    tension at the joint is not compared: moorline reports the last segment's tension, MoorPy the
    end's, which differ by half a segment's weight (1.4 %).
-3. Invariant: the equilibrium does not depend on the route. case2 solved by the seabed-blend
+3. MoorPy's ``case5.dat``: 890 m of chain between points 500 m apart, too long to lie as an "L".
+   Started from the folded "L" (:func:`~moorline.system.initial.folded_l_nodes`), plain Newton
+   converges to a vertical hang: zero tension at the anchor as in MoorPy, and the top segment's
+   tension is MoorPy's fairlead tension less half a segment's submerged weight, within 0.3 %
+   (measured 0.13 %: where the touchdown falls between two nodes 22 m apart, a lumped model can be
+   off by up to half a segment's weight, 3.8 %).
+4. Invariant: the equilibrium does not depend on the route. case2 solved by the seabed-blend
    continuation and, with that stage switched off, by the relaxation-Newton alternation: the same
    state within 1e-6 m.
 """
@@ -32,6 +38,7 @@ SHARED = Path(os.environ.get("MOORLINE_SHARED", Path(__file__).resolve().parents
 DECKS = SHARED / "public_decks"
 LIFTING = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "lifting.txt"
 CASE2 = DECKS / "NREL+MoorPy" / "tests" / "case2.dat"
+CASE5 = DECKS / "NREL+MoorPy" / "tests" / "case5.dat"
 
 pytestmark = pytest.mark.slow
 
@@ -64,9 +71,9 @@ def test_lifting_point_hangs_at_the_analytic_stretch():
     assert s.lines[0].anchor_tension() == pytest.approx(mg + w_net * L, rel=1e-7)
 
 
-def _moorpy_case2():
+def _moorpy(path):
     mp = pytest.importorskip("moorpy")
-    ms = mp.System(file=str(CASE2))
+    ms = mp.System(file=str(path))
     ms.initialize()
     ms.solveEquilibrium()
     return ms
@@ -74,7 +81,7 @@ def _moorpy_case2():
 
 def test_moorpy_case2_free_joint_against_moorpy():
     _need(CASE2)
-    ms = _moorpy_case2()
+    ms = _moorpy(CASE2)
     s = _started(CASE2)
     rep = s.ic_report
     assert rep["converged"] and rep["method"] == "seabed-blend continuation + newton", rep
@@ -95,3 +102,17 @@ def test_the_equilibrium_does_not_depend_on_the_route(monkeypatch):
     assert b.ic_report["converged"] and b.ic_report["method"] == "relaxation-newton alternation", b.ic_report
     n = a.layout.u_offset
     assert np.max(np.abs(a.y[:n] - b.y[:n])) < 1e-6
+
+
+def test_moorpy_case5_line_too_long_for_an_l():
+    _need(CASE5)
+    ms = _moorpy(CASE5)
+    s = _started(CASE5)
+    rep = s.ic_report
+    assert rep["converged"] and rep["method"] == "newton" and not rep["catenary_failed"], rep
+    ln = s.lines[0]
+    assert ln.anchor_tension() == 0.0 and ms.lineList[0].TA == 0.0
+    lt = s.model.line_types["main"]
+    w = (lt.w - s.layout.env.rho * np.pi / 4.0 * lt.d ** 2) * s.layout.env.g
+    half = 0.5 * 890.0 / 40
+    assert ln.fairlead_tension() == pytest.approx(ms.lineList[0].TB - w * half, rel=3e-3)

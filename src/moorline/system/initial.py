@@ -43,7 +43,7 @@ from ..core.seabed import resting_penetration, seabed_at
 from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
 from ..errors import DeckError, SimulationError
 from ..io.moordyn_state import read_moordyn_state
-from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
+from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, STATUS_TOO_LONG, catenary_nodes
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -176,7 +176,10 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_
         seabed = any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB))
         EA = float(L.seg_EA[L.seg_ptr[li]])
         status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
-        if status not in (STATUS_OK, STATUS_SHORT_SPAN):
+        if status == STATUS_TOO_LONG:
+            # longer than an "L" on the seabed: the L with the excess folded back on the seabed (not a failure)
+            folded_l_nodes(rA, rB, float(layout.line_L[li]), N, out)
+        elif status not in (STATUS_OK, STATUS_SHORT_SPAN):
             failed.append((li, int(status)))
         # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
         # on a slope starts on it, not through it)
@@ -189,6 +192,37 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_
             y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
         start_line_states(layout, li, out, y)
     return failed
+
+
+def folded_l_nodes(rA: np.ndarray, rB: np.ndarray, L: float, N: int, out: np.ndarray) -> None:
+    """Start nodes of a line too long to lie as an "L" (the catenary's ``STATUS_TOO_LONG``): a
+    vertical hang from the upper end down to the lower end's level, a straight run along the seabed
+    to the lower end, and the excess length laid on the seabed as a fold that runs out beyond the
+    lower end, away from the upper one, and back. The hang carries the line's weight and the
+    seabed part is unstretched, so the start is close to an equilibrium (a straight chord instead
+    leaves every segment slack and the whole line falls: MoorPy's case5, 890 m between points 500 m
+    apart). Nodes at equal unstretched arc length; lines may overlap themselves in this model."""
+    low, up = (rA, rB) if rA[2] <= rB[2] else (rB, rA)
+    d = np.array([up[0] - low[0], up[1] - low[1], 0.0])
+    dh = float(np.hypot(d[0], d[1]))
+    u = d / dh if dh > 0.0 else np.array([1.0, 0.0, 0.0])
+    h = float(up[2] - low[2])
+    e = max(L - dh - h, 0.0)
+    corners = [low, low - 0.5 * e * u, low + dh * u, up]
+    seg = [float(np.linalg.norm(corners[k + 1] - corners[k])) for k in range(3)]
+    total = sum(seg)
+    for j in range(N + 1):
+        s = total * j / N
+        k = 0
+        while k < 2 and s > seg[k]:
+            s -= seg[k]
+            k += 1
+        f = s / seg[k] if seg[k] > 0.0 else 0.0
+        out[j] = corners[k] + min(f, 1.0) * (corners[k + 1] - corners[k])
+    if rA[2] > rB[2]:
+        out[:] = out[::-1].copy()
+    out[0] = rA
+    out[N] = rB
 
 
 def start_line_states(layout: Layout, li: int, nodes: np.ndarray, y: np.ndarray) -> None:
@@ -389,7 +423,7 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
         status, k, resid = newton(E, opts.dtIC, NEWTON_MAX_IT)
         it += k
         route = "implicit relaxation + newton"
-        best, stale = resid, 0
+        best, stale = np.inf, 0
         while status != 1 and relax < RELAX_BUDGET and stale < RELAX_PATIENCE:
             # on from the relaxed state, not from Newton's last iterate
             sys.y[:] = y_relaxed
