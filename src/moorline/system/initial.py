@@ -43,7 +43,7 @@ from ..core.seabed import resting_penetration, seabed_at
 from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
 from ..errors import DeckError, SimulationError
 from ..io.moordyn_state import read_moordyn_state
-from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, STATUS_TOO_LONG, catenary_nodes
+from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -176,22 +176,43 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_
         seabed = any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB))
         EA = float(L.seg_EA[L.seg_ptr[li]])
         status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
-        if status == STATUS_TOO_LONG:
-            # longer than an "L" on the seabed: the L with the excess folded back on the seabed (not a failure)
-            folded_l_nodes(rA, rB, float(layout.line_L[li]), N, out)
-        elif status not in (STATUS_OK, STATUS_SHORT_SPAN):
+        if status not in (STATUS_OK, STATUS_SHORT_SPAN):
             failed.append((li, int(status)))
-        # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
-        # on a slope starts on it, not through it)
-        for j in range(1, N):
-            zb = seabed_at(B.gx, B.gy, B.gz, E.depth, out[j, 0], out[j, 1])[0]
-            if out[j, 2] < zb:
-                out[j, 2] = zb
-        for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
-            row = int(L.node_row[n])
-            y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
-        start_line_states(layout, li, out, y)
+        place_line(layout, li, out, y)
     return failed
+
+
+def place_line(layout: Layout, li: int, out: np.ndarray, y: np.ndarray) -> None:
+    """Put line ``li``'s internal nodes at ``out`` (all N + 1 nodes) in ``y``, none below the
+    seabed, and start its internal states there."""
+    L, E, B = layout.lines, layout.env, layout.seabed
+    N = out.shape[0] - 1
+    # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
+    # on a slope starts on it, not through it)
+    for j in range(1, N):
+        zb = seabed_at(B.gx, B.gy, B.gz, E.depth, out[j, 0], out[j, 1])[0]
+        if out[j, 2] < zb:
+            out[j, 2] = zb
+    for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+        row = int(L.node_row[n])
+        y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
+    start_line_states(layout, li, out, y)
+
+
+def fold_too_long_lines(sys: System, W) -> list[int]:
+    """Newton's start for the lines whose catenary is "too long" (left on their straight chord by
+    :func:`catenary_start`, as MoorDyn leaves them, every segment slack): the folded "L" of
+    :func:`folded_l_nodes`. Returns the indices of the lines moved."""
+    lay = sys.layout
+    moved = []
+    for number in sys.ic_report.get("catenary_too_long", []):
+        li = number - 1
+        rA, rB = end_points(lay, li, W)
+        out = np.zeros((int(lay.line_N[li]) + 1, 3))
+        folded_l_nodes(rA, rB, float(lay.line_L[li]), out.shape[0] - 1, out)
+        place_line(lay, li, out, sys.y)
+        moved.append(li)
+    return moved
 
 
 def folded_l_nodes(rA: np.ndarray, rB: np.ndarray, L: float, N: int, out: np.ndarray) -> None:
@@ -387,6 +408,10 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     converges."""
     opts = sys.model.options
     A, IW = sys._implicit()
+    # MoorDyn's start, which its methods get back if Newton fails, leaves a line too long for an "L"
+    # on its chord; Newton's start has it folded on the seabed
+    y_moordyn = sys.y.copy()
+    fold_too_long_lines(sys, W)
     y_start = sys.y.copy()
     t0 = time.perf_counter()
     sink_into_seabed(sys, E)
@@ -452,7 +477,7 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     log.warning("Newton statics did not converge (%s after %d iterations, residual %.3g m/s^2, %.3g s of "
                 "implicit relaxation)%s", "singular or non-finite" if status < 0 else "not converged", it, resid,
                 relax, "" if sys.scheme == Scheme.GENALPHA else "; falling back to MoorDyn's initial-condition method")
-    sys.y[:] = y_start
+    sys.y[:] = y_moordyn
     return False
 
 
