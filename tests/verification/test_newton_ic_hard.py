@@ -22,7 +22,7 @@ continuation stages of :func:`moorline.system.initial.newton_ic` must finish the
    converged start used to be reported 0.11 m/s^2 off (logged as an error; ``moorline run`` would
    exit non-zero).
 5. Invariant: the equilibrium does not depend on the route. case2 solved by the seabed-blend
-   continuation and, with that stage switched off, by the relaxation-Newton alternation: the same
+   continuation and, with that stage switched off, by implicit relaxation and Newton: the same
    state within 1e-6 m.
 """
 
@@ -104,7 +104,7 @@ def test_the_equilibrium_does_not_depend_on_the_route(monkeypatch):
     assert a.ic_report["method"] == "seabed-blend continuation + newton"
     monkeypatch.setattr(initial, "BLEND_WIDTHS", ())
     b = _started(CASE2)
-    assert b.ic_report["converged"] and b.ic_report["method"] == "relaxation-newton alternation", b.ic_report
+    assert b.ic_report["converged"] and "relaxation" in b.ic_report["method"], b.ic_report
     n = a.layout.u_offset
     assert np.max(np.abs(a.y[:n] - b.y[:n])) < 1e-6
 
