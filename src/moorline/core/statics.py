@@ -254,9 +254,9 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
     successive residual norms (switched evolution relaxation) so the iterations start as heavily
     damped dynamics from a poor guess and end as plain Newton. An iteration that more than doubles
     the residual is rejected and retried with tau^2 / 4. With ``min_growth`` > 1, an iteration that
-    lowers the residual grows tau^2 by at least that factor: the continuation stages of
-    :func:`moorline.system.initial.newton_ic` use 2, so that a system whose residual falls slowly
-    (a touchdown creeping along a chain, one node per few iterations) is not held at small steps.
+    lowers the residual grows tau^2 by at least that factor, so that a system whose residual falls
+    slowly (a touchdown creeping along a chain, one node per few iterations) is not held at small
+    steps (:func:`moorline.system.initial.newton_ic` uses 2).
 
     The loop is Python around compiled kernels (:func:`static_eval`, ``solve_increment``,
     ``displace``): it runs a few tens of iterations of milliseconds each, so the Python costs
