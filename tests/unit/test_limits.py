@@ -132,11 +132,15 @@ def test_a_dtic_longer_than_tmaxic_ends_the_relaxation_at_tmaxic(monkeypatch):
     """Fuzzer seed 2, case 63: the wave-energy cable example with dtIC 1e11 s. Newton did not
     converge from its catenary start, and the implicit relaxation then integrated towards t = dtIC
     (1e11 one-second steps, a hang) instead of stopping at TmaxIC. Newton is cut to one iteration
-    here so that the relaxation runs whatever Newton's iteration budget."""
+    here so that the relaxation runs whatever Newton's iteration budget, and the seabed-blend
+    continuation before it and the relaxation-Newton alternation after it are switched off (this
+    test is about the deck's own relaxation budget)."""
     import moorline.system.initial as initial
 
     monkeypatch.setattr(initial, "NEWTON_FIRST_IT", 1)
     monkeypatch.setattr(initial, "NEWTON_FIRST_IT_EXPLICIT", 1)
+    monkeypatch.setattr(initial, "BLEND_WIDTHS", ())
+    monkeypatch.setattr(initial, "RELAX_BUDGET", 0.0)
     model = read_deck(ROOT / "examples" / "wec_cable" / "wec_cable.dat")
     model.options.dtIC = 1.0e11
     s = System(model)

@@ -248,12 +248,15 @@ def static_eval(y, A, IW, L, R, P, E, B, Mo, W, F, FW, jac, diag):
     return factor(A, IW), 0.0, 0.0
 
 
-def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter):
+def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter, min_growth=1.0):
     """Static equilibrium by pseudo-transient continuation of Newton's method: each iteration
     solves (I / tau^2 - df/dx) dx = f(x) at zero velocities, with tau^2 grown by the ratio of
     successive residual norms (switched evolution relaxation) so the iterations start as heavily
     damped dynamics from a poor guess and end as plain Newton. An iteration that more than doubles
-    the residual is rejected and retried with tau^2 / 4.
+    the residual is rejected and retried with tau^2 / 4. With ``min_growth`` > 1, an iteration that
+    lowers the residual grows tau^2 by at least that factor: the continuation stages of
+    :func:`moorline.system.initial.newton_ic` use 2, so that a system whose residual falls slowly
+    (a touchdown creeping along a chain, one node per few iterations) is not held at small steps.
 
     The loop is Python around compiled kernels (:func:`static_eval`, ``solve_increment``,
     ``displace``): it runs a few tens of iterations of milliseconds each, so the Python costs
@@ -312,6 +315,8 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
         if not np.isfinite(nrm1):
             return -1, it, big1
         ratio = nrm / nrm1 if nrm1 > 0.0 else 1e6
+        if nrm1 < nrm:
+            ratio = max(ratio, min_growth)
         tau2 *= min(max(ratio, 0.1), 1e3)
         if tau2 > 1e30:
             tau2 = 1e30

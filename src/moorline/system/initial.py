@@ -70,6 +70,32 @@ NEWTON_FIRST_IT = 30
 #: the implicit relaxation, whose kernels (the generalized-alpha step) an explicit deck otherwise
 #: never needs: a third of the README example's first-run compile time went to them.
 NEWTON_FIRST_IT_EXPLICIT = 250
+#: seabed-blend continuation (:func:`newton_ic`): blend widths [m] of the contact spring's C1 ramp
+#: (``core.seabed._spring``), widest first. MoorDyn's contact spring starts at full stiffness at
+#: zero penetration: a node at the touchdown has no contact stiffness in the Jacobian on one side
+#: and full stiffness on the other, and Newton steps it in and out of the seabed. A metre of blend
+#: makes the contact soft enough for the touchdown to move freely; each narrower width starts from
+#: the previous equilibrium, and the last solve has the deck's own contact law. MoorPy's case2
+#: (chain and polyester with a free joint): 650 iterations and no convergence before, 240 + 6 +
+#: 4 + 5 now.
+BLEND_WIDTHS = (1.0, 0.1, 0.01)
+#: least growth of Newton's pseudo step per successful iteration in those continuation stages
+#: (``min_growth`` of :func:`~moorline.core.statics.newton_statics`; the first solve keeps 1)
+CONT_GROWTH = 2.0
+#: relaxation-Newton alternation (:func:`newton_ic`), after the deck's own relaxation budget:
+#: chunks of RELAX_CHUNK [s] of implicit relaxation at steps of RELAX_STEP [s], each from rest
+#: and followed by a short Newton, until Newton converges or after RELAX_BUDGET [s] of pseudo time.
+#: The step is independent of dtIC (MoorDyn's convergence-test interval: 1 ms in lifting.txt,
+#: whose slack, undamped line then needs thousands of steps); restarting each chunk from rest
+#: takes out the kinetic energy a lightly damped system would otherwise keep (MHK_RM1's almost
+#: vertical chain hangs: 45 s).
+RELAX_STEP = 0.5
+RELAX_CHUNK = 5.0
+RELAX_BUDGET = 300.0
+#: ... and it stops early when RELAX_PATIENCE chunks in a row have not halved the best residual
+#: Newton reached (a system with no equilibrium near, such as BodiesAndRods.dat's body without
+#: buoyancy sinking on nylon lines, took 36 s of wall time for the whole budget)
+RELAX_PATIENCE = 6
 
 
 def end_points(layout: Layout, li: int, W) -> tuple[np.ndarray, np.ndarray]:
@@ -151,17 +177,72 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_
         status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
         if status not in (STATUS_OK, STATUS_SHORT_SPAN):
             failed.append((li, int(status)))
-        # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
-        # on a slope starts on it, not through it)
-        for j in range(1, N):
-            zb = seabed_at(B.gx, B.gy, B.gz, E.depth, out[j, 0], out[j, 1])[0]
-            if out[j, 2] < zb:
-                out[j, 2] = zb
-        for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
-            row = int(L.node_row[n])
-            y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
-        start_line_states(layout, li, out, y)
+        place_line(layout, li, out, y)
     return failed
+
+
+def place_line(layout: Layout, li: int, out: np.ndarray, y: np.ndarray) -> None:
+    """Put line ``li``'s internal nodes at ``out`` (all N + 1 nodes) in ``y``, none below the
+    seabed, and start its internal states there."""
+    L, E, B = layout.lines, layout.env, layout.seabed
+    N = out.shape[0] - 1
+    # the catenary knows only a flat seabed: nothing starts below the real one (a line laid
+    # on a slope starts on it, not through it)
+    for j in range(1, N):
+        zb = seabed_at(B.gx, B.gy, B.gz, E.depth, out[j, 0], out[j, 1])[0]
+        if out[j, 2] < zb:
+            out[j, 2] = zb
+    for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+        row = int(L.node_row[n])
+        y[3 * row:3 * row + 3] = out[n - int(L.node_ptr[li])]
+    start_line_states(layout, li, out, y)
+
+
+def fold_too_long_lines(sys: System, W) -> list[int]:
+    """Newton's start for the lines whose catenary is "too long" (left on their straight chord by
+    :func:`catenary_start`, as MoorDyn leaves them, every segment slack): the folded "L" of
+    :func:`folded_l_nodes`. Returns the indices of the lines moved."""
+    lay = sys.layout
+    moved = []
+    for number in sys.ic_report.get("catenary_too_long", []):
+        li = number - 1
+        rA, rB = end_points(lay, li, W)
+        out = np.zeros((int(lay.line_N[li]) + 1, 3))
+        folded_l_nodes(rA, rB, float(lay.line_L[li]), out.shape[0] - 1, out)
+        place_line(lay, li, out, sys.y)
+        moved.append(li)
+    return moved
+
+
+def folded_l_nodes(rA: np.ndarray, rB: np.ndarray, L: float, N: int, out: np.ndarray) -> None:
+    """Start nodes of a line too long to lie as an "L" (the catenary's ``STATUS_TOO_LONG``): a
+    vertical hang from the upper end down to the lower end's level, a straight run along the seabed
+    to the lower end, and the excess length laid on the seabed as a fold that runs out beyond the
+    lower end, away from the upper one, and back. The hang carries the line's weight and the
+    seabed part is unstretched, so the start is close to an equilibrium (a straight chord instead
+    leaves every segment slack and the whole line falls: MoorPy's case5, 890 m between points 500 m
+    apart). Nodes at equal unstretched arc length; lines may overlap themselves in this model."""
+    low, up = (rA, rB) if rA[2] <= rB[2] else (rB, rA)
+    d = np.array([up[0] - low[0], up[1] - low[1], 0.0])
+    dh = float(np.hypot(d[0], d[1]))
+    u = d / dh if dh > 0.0 else np.array([1.0, 0.0, 0.0])
+    h = float(up[2] - low[2])
+    e = max(L - dh - h, 0.0)
+    corners = [low, low - 0.5 * e * u, low + dh * u, up]
+    seg = [float(np.linalg.norm(corners[k + 1] - corners[k])) for k in range(3)]
+    total = sum(seg)
+    for j in range(N + 1):
+        s = total * j / N
+        k = 0
+        while k < 2 and s > seg[k]:
+            s -= seg[k]
+            k += 1
+        f = s / seg[k] if seg[k] > 0.0 else 0.0
+        out[j] = corners[k] + min(f, 1.0) * (corners[k + 1] - corners[k])
+    if rA[2] > rB[2]:
+        out[:] = out[::-1].copy()
+    out[0] = rA
+    out[N] = rB
 
 
 def start_line_states(layout: Layout, li: int, nodes: np.ndarray, y: np.ndarray) -> None:
@@ -311,38 +392,91 @@ def _solve_initial_conditions(sys: System) -> None:
 
 def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     """Static equilibrium by Newton's method (pseudo-transient continuation from the catenary
-    start); when that does not converge quickly (a slack, flexible system far from the start,
-    such as a lazy-wave cable), implicit dynamic relaxation (generalized-alpha with maximal
-    numerical damping, drag scaled by CdScaleIC, steps of up to dtIC) then Newton again.
-    Returns False (state restored) when it does not converge."""
+    start). When that does not converge quickly, three strategies follow, each only if the one
+    before failed:
+
+    1. seabed-blend continuation (with seabed contact): Newton on a softened contact law, widths
+       :data:`BLEND_WIDTHS`, then on the deck's own;
+    2. implicit dynamic relaxation within the deck's TmaxIC (generalized-alpha with maximal
+       numerical damping, drag scaled by CdScaleIC, steps of up to dtIC), then Newton;
+    3. relaxation-Newton alternation (:data:`RELAX_CHUNK`, :data:`RELAX_STEP`,
+       :data:`RELAX_BUDGET`): slack and lightly damped systems far from their start.
+
+    Every route ends in a Newton solve on the deck's own model to the same tolerances, so the
+    answer does not depend on the route beyond those. Returns False (state restored) when none
+    converges."""
     opts = sys.model.options
     A, IW = sys._implicit()
+    # MoorDyn's start, which its methods get back if Newton fails, leaves a line too long for an "L"
+    # on its chord; Newton's start has it folded on the seabed
+    y_moordyn = sys.y.copy()
+    fold_too_long_lines(sys, W)
     y_start = sys.y.copy()
     t0 = time.perf_counter()
     sink_into_seabed(sys, E)
     first = NEWTON_FIRST_IT if sys.scheme == Scheme.GENALPHA else NEWTON_FIRST_IT_EXPLICIT
-    status, it, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW, float(opts.dtIC),
-                                       NEWTON_ACC_TOL, NEWTON_DX_TOL, first)
+
+    def newton(env, tau0, max_it, acc_tol=NEWTON_ACC_TOL, dx_tol=NEWTON_DX_TOL, growth=1.0):
+        return newton_statics(sys.y, A, IW, L, R, P, env, B, sys._motion, W, F, FW, float(tau0),
+                              acc_tol, dx_tol, max_it, growth)
+
+    status, it, resid = newton(E, opts.dtIC, first)
     relax = 0.0
+    route = "newton"
+    if status != 1 and E.kBot > 0.0:
+        widths = [w for w in BLEND_WIDTHS if w > E.bed_blend]
+        if widths:
+            sys.y[:] = y_start
+            sink_into_seabed(sys, E)
+            for w in widths:
+                # the softened solves need no final accuracy, only a good start for the next one; one that
+                # stops short still hands on a better start than the catenary's (MoorPy's case6: the 1 m and
+                # 0.1 m solves stop short, the 1 cm one converges)
+                y_stage = sys.y.copy()
+                st, k, _ = newton(E._replace(bed_blend=w), opts.dtIC, first, 10.0 * NEWTON_ACC_TOL, 1e-6, CONT_GROWTH)
+                it += k
+                if st < 0 or not np.all(np.isfinite(sys.y)):
+                    sys.y[:] = y_stage
+            status, k, resid = newton(E, opts.dtIC, NEWTON_MAX_IT, growth=CONT_GROWTH)
+            it += k
+            route = "seabed-blend continuation + newton"
     if status != 1:
         sys.y[:] = y_start
         relax = implicit_relaxation(sys, A, IW, L, R, P, E, B, W, F, FW)
-        status, it2, resid = newton_statics(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW, float(opts.dtIC),
-                                            NEWTON_ACC_TOL, NEWTON_DX_TOL, NEWTON_MAX_IT)
-        it += it2
+        y_relaxed = sys.y.copy()
+        status, k, resid = newton(E, opts.dtIC, NEWTON_MAX_IT)
+        it += k
+        route = "implicit relaxation + newton"
+        best, stale = np.inf, 0
+        while status != 1 and relax < RELAX_BUDGET and stale < RELAX_PATIENCE:
+            # on from the relaxed state, not from Newton's last iterate
+            sys.y[:] = y_relaxed
+            dt = implicit_relaxation(sys, A, IW, L, R, P, E, B, W, F, FW, t_max=RELAX_CHUNK, h=RELAX_STEP,
+                                     window=RELAX_CHUNK, thresh=0.0)
+            if dt <= 0.0 or not np.all(np.isfinite(sys.y)):
+                sys.y[:] = y_relaxed
+                break
+            relax += dt
+            y_relaxed = sys.y.copy()
+            status, k, resid = newton(E, RELAX_STEP, NEWTON_FIRST_IT, growth=CONT_GROWTH)
+            it += k
+            if resid < 0.5 * best:
+                best, stale = resid, 0
+            else:
+                stale += 1
+            route = "relaxation-newton alternation"
     wall = time.perf_counter() - t0
-    sys.ic_report.update(method="newton" if relax == 0.0 else "implicit relaxation + newton",
-                         converged=bool(status == 1), iterations=int(it), max_acceleration=float(resid),
-                         pseudo_time=relax, wall_time=wall)
+    sys.ic_report.update(method=route, converged=bool(status == 1), iterations=int(it),
+                         max_acceleration=float(resid), pseudo_time=relax, wall_time=wall)
     sys._reset_scheme()
     if status == 1:
-        log.info("initial conditions: static equilibrium by Newton in %d iterations%s (%.3g s), residual "
-                 "%.2g m/s^2", it, f" after {relax:.3g} s of implicit relaxation" if relax else "", wall, resid)
+        log.info("initial conditions: static equilibrium by %s in %d iterations%s (%.3g s), residual %.2g m/s^2",
+                 route, it, f" after {relax:.3g} s of implicit relaxation" if relax else "", wall, resid)
         return True
-    log.warning("Newton statics did not converge (%s after %d iterations, residual %.3g m/s^2)%s",
-                "singular or non-finite" if status < 0 else "not converged", it, resid,
-                "" if sys.scheme == Scheme.GENALPHA else "; falling back to MoorDyn's initial-condition method")
-    sys.y[:] = y_start
+    log.warning("Newton statics did not converge (%s after %d iterations, residual %.3g m/s^2, %.3g s of "
+                "implicit relaxation)%s", "singular or non-finite" if status < 0 else "not converged", it, resid,
+                relax, "" if sys.scheme == Scheme.GENALPHA else "; falling back to MoorDyn's initial-condition method")
+    sys.y[:] = y_moordyn
     return False
 
 
@@ -368,17 +502,23 @@ def sink_into_seabed(sys: System, E) -> None:
                 sys.y[k + 2] = zb - pen
 
 
-def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
-    """Implicit dynamic relaxation towards equilibrium (see :func:`newton_ic`): until the line
-    end tensions change by less than threshIC (relative) over dtIC, or TmaxIC. Returns the
-    pseudo time [s]."""
+def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW, *, t_max: float | None = None,
+                        h: float | None = None, window: float | None = None, thresh: float | None = None) -> float:
+    """Implicit dynamic relaxation towards equilibrium from rest (see :func:`newton_ic`): until the
+    line end tensions (and the rigid blocks' poses) change by less than ``thresh`` (relative;
+    default threshIC) over a ``window`` (default dtIC), or for ``t_max`` (default TmaxIC), at steps
+    of ``h`` (default min(dtIC, 1 s)); the velocities are zero at the end. Returns the pseudo
+    time [s] (short of ``t_max`` if a step failed)."""
     opts = sys.model.options
+    t_max = float(opts.TmaxIC) if t_max is None else float(t_max)
+    window = float(opts.dtIC) if window is None else float(window)
+    thresh = float(opts.threshIC) if thresh is None else float(thresh)
     saved = A.par.copy()
     am, af, beta, gamma = gen_alpha_parameters(0.0)
     A.par[:4] = (am, af, beta, gamma)
     A.par[8] = opts.CdScaleIC
     st = IW.stat
-    h = min(float(opts.dtIC), 1.0)
+    h = min(float(opts.dtIC), 1.0) if h is None else float(h)
     st[S_AVALID] = st[S_HJ] = 0.0
     st[S_H] = h
     seg = sys.layout.lines.seg_ptr
@@ -394,16 +534,16 @@ def implicit_relaxation(sys: System, A, IW, L, R, P, E, B, W, F, FW) -> float:
     prev_rigid = None
     t = 0.0
     try:
-        while t < opts.TmaxIC:
-            t_next = min(t + float(opts.dtIC), float(opts.TmaxIC))  # a dtIC past TmaxIC ends at TmaxIC
+        while t < t_max:
+            t_next = min(t + window, t_max)  # a window past t_max ends at t_max
             t, status, row, _ = advance_implicit(sys.y, t, t_next, h, A, IW, L, R, P, E, B, sys._motion, W, F, FW,
                                                  MAX_NODE_SPEED, True)
             if status != 0:
                 break
             ten = np.linalg.norm(W.T[ends], axis=1) if ends.size else np.zeros(0)
             rig = rigid_state()
-            if prev is not None and np.all(np.abs(ten - prev) <= opts.threshIC * np.maximum(np.abs(ten), 1.0)) \
-                    and np.all(np.abs(rig - prev_rigid) <= opts.threshIC):
+            if prev is not None and np.all(np.abs(ten - prev) <= thresh * np.maximum(np.abs(ten), 1.0)) \
+                    and np.all(np.abs(rig - prev_rigid) <= thresh):
                 break
             prev = ten
             prev_rigid = rig

@@ -318,9 +318,11 @@ class System:
         B.ctl[:] = 0  # stick-slip friction is off while the initial conditions are found
         failed = catenary_start(self.layout, x, self.y, self.work)
         for li, status in failed:
-            log.warning("line %d: catenary solve unsuccessful (%s); starting from the straight chord", li + 1,
-                        CatenaryStatus(status).name.lower())
-        self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed]}
+            log.warning("line %d: catenary solve unsuccessful (%s); starting from the straight chord%s", li + 1,
+                        CatenaryStatus(status).name.lower(),
+                        " (Newton statics: folded on the seabed)" if status == CatenaryStatus.TOO_LONG else "")
+        self.ic_report = {"catenary_failed": [li + 1 for li, _ in failed],
+                          "catenary_too_long": [li + 1 for li, st in failed if st == CatenaryStatus.TOO_LONG]}
         opts = self.model.options
         if opts.fileIC and self._qsm is None:
             start_from_moordyn_state(self, opts.fileIC)  # after the catenary start, before the IC solve (spec 6.1)

@@ -1,0 +1,118 @@
+"""Newton statics on the public decks it used to give up on (issue 18): slack lines, touchdowns and a
+free joint, where the first pseudo-transient Newton solve from the catenary start stalls and the
+continuation stages of :func:`moorline.system.initial.newton_ic` must finish the job.
+
+1. ``lifting.txt`` (MoorDyn's tests): a 1 t point on a 100.5 m neutrally buoyant line whose deck
+   start is 0.5 m slack. Analytic: the point hangs at -L (1 + m g / EA) and the top tension is
+   m g plus the line's (here tiny) net weight. Tolerances: 1e-7 m and 1e-7 relative, a hundred
+   times the converged residual's effect (1e-7 m/s^2 on a 1 t point against 2e8 N/m segments).
+2. MoorPy's ``case2.dat`` (chain and polyester joined by a free, massless point): the joint within
+   3 cm of MoorPy's analytic catenaries (measured 1.4 cm: 25 and 15 lumped-mass segments against
+   exact catenaries) and the polyester's end tensions within 0.2 % (measured 0.08 %). The chain's
+   tension at the joint is not compared: moorline reports the last segment's tension, MoorPy the
+   end's, which differ by half a segment's weight (1.4 %).
+3. MoorPy's ``case5.dat``: 890 m of chain between points 500 m apart, too long to lie as an "L".
+   Started from the folded "L" (:func:`~moorline.system.initial.folded_l_nodes`), plain Newton
+   converges to a vertical hang: zero tension at the anchor as in MoorPy, and the top segment's
+   tension is MoorPy's fairlead tension less half a segment's submerged weight, within 0.3 %
+   (measured 0.13 %: where the touchdown falls between two nodes 22 m apart, a lumped model can be
+   off by up to half a segment's weight, 3.8 %).
+4. Invariant: the equilibrium does not depend on the route. case2 solved by the seabed-blend
+   continuation and, with that stage switched off, by the relaxation-Newton alternation: the same
+   state within 1e-6 m.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import moorline.system.initial as initial
+from moorline.io import read_deck
+from moorline.system import System
+
+SHARED = Path(os.environ.get("MOORLINE_SHARED", Path(__file__).resolve().parents[3] / "shared"))
+DECKS = SHARED / "public_decks"
+LIFTING = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "lifting.txt"
+CASE2 = DECKS / "NREL+MoorPy" / "tests" / "case2.dat"
+CASE5 = DECKS / "NREL+MoorPy" / "tests" / "case5.dat"
+
+pytestmark = pytest.mark.slow
+
+
+def _need(path: Path) -> None:
+    if not path.exists():
+        pytest.skip(f"{path} not available")
+
+
+def _started(path: Path) -> System:
+    s = System(read_deck(path))
+    x0 = s.deck_coupled_positions()
+    s.init(x0, np.zeros_like(x0))
+    return s
+
+
+def test_lifting_point_hangs_at_the_analytic_stretch():
+    _need(LIFTING)
+    s = _started(LIFTING)
+    rep = s.ic_report
+    assert rep["converged"] and rep["method"] == "relaxation-newton alternation", rep
+    assert rep["residual"] < 1e-5
+    lt = s.model.line_types["main"]
+    g = s.layout.env.g
+    L = 100.5
+    mg = 1.0e3 * g
+    w_net = (lt.w - 1000.0 * np.pi / 4.0 * lt.d ** 2) * g  # N/m, -1.6e-5: neutrally buoyant to 2e-6
+    z = s.points[1].position()[2]
+    assert z == pytest.approx(-L * (1.0 + mg / lt.EA), abs=1e-7)
+    assert s.lines[0].anchor_tension() == pytest.approx(mg + w_net * L, rel=1e-7)
+
+
+def _moorpy(path):
+    mp = pytest.importorskip("moorpy")
+    ms = mp.System(file=str(path))
+    ms.initialize()
+    ms.solveEquilibrium()
+    return ms
+
+
+def test_moorpy_case2_free_joint_against_moorpy():
+    _need(CASE2)
+    ms = _moorpy(CASE2)
+    s = _started(CASE2)
+    rep = s.ic_report
+    assert rep["converged"] and rep["method"] == "seabed-blend continuation + newton", rep
+    joint = next(p for p in ms.pointList if p.type == 0)
+    assert np.linalg.norm(s.points[1].position() - joint.r) < 0.03
+    poly = ms.lineList[1]
+    assert s.lines[1].anchor_tension() == pytest.approx(poly.TA, rel=2e-3)
+    assert s.lines[1].fairlead_tension() == pytest.approx(poly.TB, rel=2e-3)
+    assert s.lines[0].anchor_tension() == pytest.approx(ms.lineList[0].TA, rel=2e-3)
+
+
+def test_the_equilibrium_does_not_depend_on_the_route(monkeypatch):
+    _need(CASE2)
+    a = _started(CASE2)
+    assert a.ic_report["method"] == "seabed-blend continuation + newton"
+    monkeypatch.setattr(initial, "BLEND_WIDTHS", ())
+    b = _started(CASE2)
+    assert b.ic_report["converged"] and b.ic_report["method"] == "relaxation-newton alternation", b.ic_report
+    n = a.layout.u_offset
+    assert np.max(np.abs(a.y[:n] - b.y[:n])) < 1e-6
+
+
+def test_moorpy_case5_line_too_long_for_an_l():
+    _need(CASE5)
+    ms = _moorpy(CASE5)
+    s = _started(CASE5)
+    rep = s.ic_report
+    assert rep["converged"] and rep["method"] == "newton" and rep["catenary_too_long"] == [1], rep
+    ln = s.lines[0]
+    assert ln.anchor_tension() == 0.0 and ms.lineList[0].TA == 0.0
+    lt = s.model.line_types["main"]
+    w = (lt.w - s.layout.env.rho * np.pi / 4.0 * lt.d ** 2) * s.layout.env.g
+    half = 0.5 * 890.0 / 40
+    assert ln.fairlead_tension() == pytest.approx(ms.lineList[0].TB - w * half, rel=3e-3)
