@@ -3,8 +3,9 @@
     python benchmarks/run_all.py [--repeat 3] [--repeat-small 3] [--baseline-src PATH] [--out benchmarks/RESULTS.md]
 
 Runs bench_vs_moordyn.py, bench_equal_accuracy.py, bench_scaling.py, bench_init.py,
-bench_quasistatic.py, bench_floating.py, bench_public_decks.py and bench_compile.py one after the other (each in its own
-process, so each starts with a clean interpreter) and writes their tables, with the machine they
+bench_quasistatic.py, bench_floating.py, bench_public_decks.py, bench_cases_per_hour.py and
+bench_compile.py one after the other (each in its own process, so each starts with a clean
+interpreter) and writes their tables, with the machine they
 ran on, into one markdown file. Needs ``moordyn`` (and ``cabledyn`` for the CableDyn rows; without
 it those rows are missing), ``moorpy`` for the quasi-static rows and ``capytaine`` for the
 floating-body rows.
@@ -84,6 +85,7 @@ def main(argv=None) -> int:
         run("bench_quasistatic.py", "--repeat", "5", "--out", str(tmp / "quasistatic.md"))
         (tmp / "floating.md").write_text(run("bench_floating.py", "--repeat", rep))
         run("bench_public_decks.py", "--repeat", rep, "--out", str(tmp / "public.md"))
+        (tmp / "cases.txt").write_text(run("bench_cases_per_hour.py", "--cold"))
         run("bench_compile.py", "--out", str(tmp / "compile.md"),
             *(["--baseline-src", a.baseline_src] if a.baseline_src else []))
     vs_lines = [ln for ln in vs.splitlines() if ln.strip() and "catenary solve" not in ln and
@@ -148,6 +150,16 @@ through its compiled loop over the same trajectory; CPU time of the process (med
 the ratios hold on a shared machine.
 
 {(tmp / "public.md").read_text() if (tmp / "public.md").exists() else "(not run)"}
+
+## 7. Many cases at once
+
+`bench_cases_per_hour.py --cold`: Waves4Power cable-study cases (validation/w4p_cable, GenAlpha)
+through the study runner's local executor on 1 and 2 worker processes from a warm compile cache
+shared by the workers, after the one-off compile (an empty cache); BLAS single-threaded.
+
+```
+{(tmp / "cases.txt").read_text().strip() if (tmp / "cases.txt").exists() else "(not run)"}
+```
 
 ## First run: compile time, per deck feature
 

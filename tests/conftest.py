@@ -5,6 +5,13 @@ Every system in the tests is compiled with every feature (``MOORLINE_ALL_FEATURE
 one compiled specialisation for all of them is cheaper than one per combination met. Results are
 identical (``tests/kernels/test_jit.py`` checks it); the tests of the per-deck specialisation unset
 the variable. Subprocesses started by tests inherit it.
+
+BLAS and OpenMP run single-threaded (``OMP_NUM_THREADS`` and the like, unless set): the suite runs
+on two pytest-xdist workers, and with OpenBLAS's default of a thread per core each worker ran two
+threads on the two cores. Measured under load 5 (benchmarks/RESULTS.md section 7):
+tests/floating/test_decay.py took 28.7-29.2 s with OpenBLAS's threads against 5.8-7.8 s without
+(the hydrodynamic state-space fits' SVDs and eigenvalue problems). The xdist workers are started
+after this file is read, so they load their BLAS with these settings.
 """
 
 from __future__ import annotations
@@ -12,3 +19,6 @@ from __future__ import annotations
 import os
 
 os.environ.setdefault("MOORLINE_ALL_FEATURES", "1")
+for _k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS",
+           "NUMEXPR_NUM_THREADS"):
+    os.environ.setdefault(_k, "1")

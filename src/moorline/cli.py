@@ -620,7 +620,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("study", help="study file (YAML)")
     p.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-v info, -vv debug)")
     p.add_argument("--out", help="output folder (default: the study's 'output' or <name>_out beside it)")
-    p.add_argument("--workers", type=int, help="local worker processes (default: number of CPUs)")
+    p.add_argument("--workers", type=int, help="local worker processes (default: the CPUs this process may use)")
     p.add_argument("--scheduler", help="Dask scheduler address: run the cases on that cluster")
     p.add_argument("--no-resume", action="store_true", help="recompute cases already stored")
     p.add_argument("--quiet-progress", action="store_true", help="no progress bar (default: shown on a terminal)")

@@ -5,11 +5,16 @@
   damage rates of the sea states, the zero-probability cell is skipped;
 - a sweep killed (SIGKILL) after its first case is stored resumes without recomputing the stored
   cases and finishes with the same results as an uninterrupted sweep;
-- a Dask LocalCluster gives the same results as local processes.
+- a Dask LocalCluster gives the same results as local processes;
+- the cases run on two local worker processes give the results of the cases run one at a time in
+  this process, bit for bit, and the workers compile no kernel (they load them from the numba
+  cache this process filled); the thread-count variables set for the workers take their share
+  of the CPUs, keep what the user set, and leave this process's environment as it was.
 """
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import time
@@ -21,7 +26,8 @@ import xarray as xr
 import yaml
 
 from moorline.post import SECONDS_PER_YEAR
-from moorline.studies import run_sweep
+from moorline.studies import Study, run_case, run_sweep
+from moorline.studies.executors import _worker_threads, available_cpus, run_local
 
 DECK = Path(__file__).resolve().parent / "tiny_cable.dat"
 
@@ -116,6 +122,67 @@ def test_interrupted_sweep_resumes_with_the_same_results(reference, tmp_path):
     again = run_sweep(study, workers=1, progress=False)
     assert (again.reused, again.computed) == (6, 0)
     same(again.dataset, reference.dataset)
+
+
+_COMPILES = []  # numba's compile events in this (worker) process
+
+
+def _run_case_counting(spec):
+    """A sweep case in a worker process, with the kernels numba compiled for it (compile events
+    fire only for kernels not found in the on-disk cache) and the worker's BLAS thread setting."""
+    if not _COMPILES:
+        from numba.core import event
+
+        class Counter(event.Listener):
+            def on_start(self, ev):
+                _COMPILES.append(ev.data["dispatcher"].py_func.__qualname__)
+
+            def on_end(self, ev):
+                pass
+
+        _COMPILES.append(None)
+        event.register("numba:compile", Counter())
+    n0 = len(_COMPILES)
+    ds = run_case(spec)
+    return os.getpid(), _COMPILES[n0:], os.environ.get("OPENBLAS_NUM_THREADS"), ds
+
+
+def test_local_workers_match_one_at_a_time_and_share_the_cache(reference):
+    study = Study.from_yaml(reference.out_dir.parent / "study.yaml")
+    specs = study.case_specs()
+    got, errors = {}, []
+
+    class Bar:
+        def update(self, k):
+            pass
+
+    expected_threads = os.environ.get("OPENBLAS_NUM_THREADS") or str(max(1, available_cpus() // 2))
+    run_local(_run_case_counting, specs, 2, lambda s, r: got.__setitem__(s.index, r),
+              lambda s, e: errors.append(f"{s.label}: {e!r}"), Bar())
+    assert not errors
+    assert sorted(got) == [s.index for s in specs]
+    for s in specs:
+        pid, compiled, threads, ds = got[s.index]
+        assert pid != os.getpid()
+        assert compiled == [], f"a worker compiled {compiled} instead of loading them from the cache"
+        assert threads == expected_threads
+        same(ds, xr.load_dataset(reference.out_dir / "cases" / s.filename, engine="h5netcdf"))
+
+
+def test_worker_threads_take_their_share_keep_the_users_and_are_restored(monkeypatch):
+    """The thread-count variables set for starting workers: the workers' share of the CPUs where
+    the user set none, the user's value where set, and this process's environment as it was after."""
+    for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
+        monkeypatch.delenv(k, raising=False)
+    monkeypatch.setenv("MKL_NUM_THREADS", "3")
+    with _worker_threads(2):
+        assert os.environ["OPENBLAS_NUM_THREADS"] == os.environ["OMP_NUM_THREADS"] == str(max(1, available_cpus() // 2))
+        assert os.environ["MKL_NUM_THREADS"] == "3"
+    with _worker_threads(4 * available_cpus()):
+        assert os.environ["OPENBLAS_NUM_THREADS"] == "1"
+    assert "OPENBLAS_NUM_THREADS" not in os.environ and "OMP_NUM_THREADS" not in os.environ
+    assert os.environ["MKL_NUM_THREADS"] == "3"
+    assert 1 <= available_cpus() <= (os.cpu_count() or 1)
 
 
 def test_dask_cluster_matches_local_processes(tmp_path):

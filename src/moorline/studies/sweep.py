@@ -19,7 +19,7 @@ from tqdm.auto import tqdm
 from .. import __version__
 from ..errors import SweepError
 from ..results import write_netcdf
-from .executors import run_dask, run_local
+from .executors import available_cpus, run_dask, run_local
 from .run import run_case
 from .spec import CaseSpec, Study
 
@@ -105,7 +105,8 @@ def run_sweep(study: Study | str | os.PathLike, *, out=None, workers: int | None
     out : path, optional
         Output folder (default: the study's ``output`` or ``<name>_out`` next to the study file).
     workers : int, optional
-        Local worker processes (default: the number of CPUs; 1 runs the cases in this process).
+        Local worker processes (default: the CPUs this process may use; 1 runs the cases in this
+        process).
     scheduler : str or distributed.Client, optional
         Address of a Dask scheduler (or a Client): run the cases on that cluster instead.
     resume : bool
@@ -168,7 +169,7 @@ def run_sweep(study: Study | str | os.PathLike, *, out=None, workers: int | None
         elif scheduler is not None:
             run_dask(run_case, pending, scheduler, finished, failed, bar)
         else:
-            n = workers if workers is not None else (os.cpu_count() or 1)
+            n = workers if workers is not None else available_cpus()
             if n <= 1 or len(pending) == 1:
                 for s in pending:
                     try:
