@@ -27,7 +27,8 @@ markdown table of it. ``--icnewton 0`` starts moorline with MoorDyn's initial-co
 (which stop where MoorDyn's stop), to compare the dynamics from comparable starts.
 ``--same-start`` starts moorline from MoorDyn's own state after ``Init`` (MoorDyn's ``SaveState``
 file, read as the deck's ``fileIC``, with no IC solve in moorline), so any difference left is in the
-dynamics alone.
+dynamics alone. ``--inertial-loads moordyn`` runs moorline with MoorDyn-C's inertial loads of rods
+and bodies (the one deliberate difference in their dynamics).
 ``MOORLINE_ALL_FEATURES=1`` in the environment makes every deck use the one all-features kernel
 (compiled once) instead of compiling a specialisation per kind of deck.
 """
@@ -180,6 +181,8 @@ def run_moorline(deck: Path) -> dict:
         return {"ok": False, "stage": "parse", "error": str(e)}
     if os.environ.get("MOORLINE_SWEEP_ICNEWTON"):
         model.options.ICNewton = int(os.environ["MOORLINE_SWEEP_ICNEWTON"])
+    if os.environ.get("MOORLINE_SWEEP_INERTIA"):
+        model.options.InertialLoads = os.environ["MOORLINE_SWEEP_INERTIA"]
     if os.environ.get("MOORLINE_SWEEP_SAME_START"):
         # start from the state MoorDyn's Init handed over (its SaveState file; the deck option fileIC)
         # and solve no initial conditions: the dynamics alone are compared
@@ -329,7 +332,12 @@ def main(argv=None):
     ap.add_argument("--same-start", action="store_true",
                     help="start moorline from MoorDyn's state after Init (MoorDyn's SaveState file read as the "
                     "deck's fileIC, no IC solve in moorline): compares the dynamics alone")
+    ap.add_argument("--inertial-loads", choices=("full", "moordyn"),
+                    help="set every deck's InertialLoads in moorline (moordyn: MoorDyn-C's inertial loads of rods "
+                    "and bodies, docs/moordyn_differences.md)")
     args = ap.parse_args(argv)
+    if args.inertial_loads:
+        os.environ["MOORLINE_SWEEP_INERTIA"] = args.inertial_loads
     if args.same_start:
         os.environ["MOORLINE_SWEEP_SAME_START"] = "1"
     if args.icnewton is not None:

@@ -811,6 +811,20 @@ def test_friction_options_select_the_model():
     assert m.env.friction_coefficients()[:3] == (0.4, 0.4, 1.0)
 
 
+def test_inertial_loads_option(tmp_path):
+    """InertialLoads: 'full' by default, 'moordyn' read and written back, anything else refused
+    with the file and line."""
+    assert read_deck_text(SMALL).options.InertialLoads == "full"
+    m = read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nmoordyn  InertialLoads\n"))
+    assert m.options.InertialLoads == "moordyn"
+    out = write_deck(m, tmp_path / "w.txt")
+    assert "InertialLoads" in out.read_text() and read_deck(out).options.InertialLoads == "moordyn"
+    assert "InertialLoads" not in write_deck(read_deck_text(SMALL), tmp_path / "d.txt").read_text()
+    with pytest.raises(DeckError) as e:
+        read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nsome  InertialLoads\n"), path="f.txt")
+    assert "f.txt, line 21" in str(e.value) and "one of full, moordyn" in str(e.value)
+
+
 def test_bad_friction_model_is_located():
     with pytest.raises(DeckError) as e:
         read_deck_text(SMALL.replace("100     WtrDpth\n", "100     WtrDpth\nsticky  FrictionModel\n"), path="f.txt")

@@ -94,6 +94,9 @@ BODY_FIXED = int(BodyKind.FIXED)
 BODY_COUPLED = int(BodyKind.COUPLED)
 BODY_COUPLED_PINNED = int(BodyKind.COUPLED_PINNED)
 BODY_FREE = int(BodyKind.FREE)
+#: RigidArrays.inertia: the velocity-dependent inertial loads of rods and bodies (Options.InertialLoads)
+INERTIA_FULL = 0
+INERTIA_MOORDYN = 1
 
 
 class RigidArrays(NamedTuple):
@@ -137,6 +140,7 @@ class RigidArrays(NamedTuple):
     body_rCG: np.ndarray  # (nb, 3) CG in body axes [m]
     body_V: np.ndarray  # (nb,) volume [m^3]
     body_CdA: np.ndarray  # (nb, 6)
+    inertia: np.ndarray  # int64 (1,): INERTIA_FULL or INERTIA_MOORDYN (Options.InertialLoads)
 
 
 class PointArrays(NamedTuple):
@@ -884,6 +888,8 @@ def _rigid_arrays(model: Model, dims, rod_blk, rod_row, rod_cpl, body_blk, body_
         body_V=np.array([b.V if k else 0.0 for b, k in zip(bodies, keep, strict=True)], dtype=float),
         body_CdA=np.array([b.CdA if k else np.zeros(6) for b, k in zip(bodies, keep, strict=True)],
                           dtype=float).reshape(nb, 6),
+        inertia=np.array([INERTIA_MOORDYN if model.options.InertialLoads == "moordyn" else INERTIA_FULL],
+                         dtype=np.int64),
     )
 
 

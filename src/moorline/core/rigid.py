@@ -23,6 +23,7 @@ from .layout import (
     BODY_COUPLED_PINNED,
     BODY_FIXED,
     BODY_FREE,
+    INERTIA_MOORDYN,
     P_BODY,
     ROD_BODY,
     ROD_BODY_PINNED,
@@ -543,9 +544,10 @@ def rod_loads(R, E, B, W, cd_scale):
 
 
 @kernel
-def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_):
+def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_, moment):
     """Centripetal load on body b of a mass ``Mc`` (3x3) centred at c (global): force
-    -Mc (omega x (omega x (c - r_b))) and its moment about the reference point."""
+    -Mc (omega x (omega x (c - r_b))) and, if ``moment``, its moment about the reference point
+    (MoorDyn-C 2.7 applies the force alone: ``InertialLoads moordyn``)."""
     rx = cx_ - br[b, 0]
     ry = cy_ - br[b, 1]
     rz = cz_ - br[b, 2]
@@ -559,13 +561,14 @@ def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_):
     fx = -(Mc[0, 0] * ax + Mc[0, 1] * ay + Mc[0, 2] * az)
     fy = -(Mc[1, 0] * ax + Mc[1, 1] * ay + Mc[1, 2] * az)
     fz = -(Mc[2, 0] * ax + Mc[2, 1] * ay + Mc[2, 2] * az)
-    mx, my, mz = cross3(rx, ry, rz, fx, fy, fz)
     b6F[b, 0] += fx
     b6F[b, 1] += fy
     b6F[b, 2] += fz
-    b6F[b, 3] += mx
-    b6F[b, 4] += my
-    b6F[b, 5] += mz
+    if moment:
+        mx, my, mz = cross3(rx, ry, rz, fx, fy, fz)
+        b6F[b, 3] += mx
+        b6F[b, 4] += my
+        b6F[b, 5] += mz
 
 
 @kernel
@@ -593,13 +596,14 @@ def _add_child_to_body(br, b6F, b6M, b, F6, M6, point_only, ax, ay, az, S):
 def _rod_inertial(k, R, W, Fe):
     """Fe = rod k's F6 plus its velocity-dependent inertial loads about end A: the centripetal
     force -M_i omega x (omega x r_i) of every node (and its moment), and the gyroscopic moment
-    -omega x (I_c omega) of the rotational inertia added beyond the lumped nodes."""
+    -omega x (I_c omega) of the rotational inertia added beyond the lumped nodes (none with
+    ``InertialLoads moordyn``: MoorDyn-C 2.7 leaves them out)."""
     for a in range(6):
         Fe[a] = W.rod6F[k, a]
     wx = W.rodw[k, 0]
     wy = W.rodw[k, 1]
     wz = W.rodw[k, 2]
-    if wx == 0.0 and wy == 0.0 and wz == 0.0:
+    if (wx == 0.0 and wy == 0.0 and wz == 0.0) or R.inertia[0] == INERTIA_MOORDYN:
         return
     n0 = R.rod_node_ptr[k]
     N = R.rod_N[k]
@@ -668,7 +672,8 @@ def rigid_dynamics(y, dy, R, P, E, W):
         if P.kind[p] != P_BODY:
             continue
         b = P.body[p]
-        _centripetal_on_body(W.br, W.bw, W.b6F, b, W.pM[p], W.pr[p, 0], W.pr[p, 1], W.pr[p, 2])
+        _centripetal_on_body(W.br, W.bw, W.b6F, b, W.pM[p], W.pr[p, 0], W.pr[p, 1], W.pr[p, 2],
+                             R.inertia[0] != INERTIA_MOORDYN)
         _add_child_to_body(W.br, W.b6F, W.b6M, b, W.pF[p], W.pM[p], 1, W.pr[p, 0], W.pr[p, 1], W.pr[p, 2], S)
     # rods
     for k in range(R.rod_kind.size):
@@ -709,7 +714,8 @@ def rigid_dynamics(y, dy, R, P, E, W):
             # centripetal force of each node mass about the body
             for i in range(N + 1):
                 n = n0 + i
-                _centripetal_on_body(W.br, W.bw, W.b6F, b, W.rn_M[n], W.rn_r[n, 0], W.rn_r[n, 1], W.rn_r[n, 2])
+                _centripetal_on_body(W.br, W.bw, W.b6F, b, W.rn_M[n], W.rn_r[n, 0], W.rn_r[n, 1], W.rn_r[n, 2],
+                                     R.inertia[0] != INERTIA_MOORDYN)
             # the rod's loads and mass, about end A (MoorDyn passes a pinned rod's moment and
             # rotational mass as well, spec 3.14.5; kept for agreement)
             _add_child_to_body(W.br, W.b6F, W.b6M, b, F6, M6, 0, W.rodr[k, 0, 0], W.rodr[k, 0, 1], W.rodr[k, 0, 2], S)
@@ -768,9 +774,25 @@ def rigid_dynamics(y, dy, R, P, E, W):
         wz = W.bw[i, 2]
         ox, oy, oz = cross3(wx, wy, wz, cgx, cgy, cgz)
         cx, cy, cz = cross3(wx, wy, wz, ox, oy, oz)
-        F6[0] -= m * cx
-        F6[1] -= m * cy
-        F6[2] += fg - m * cz
+        if R.inertia[0] == INERTIA_MOORDYN:
+            # MoorDyn-C 2.7: the centrifugal force of the CG offset with the body's own translational
+            # mass in global axes, added mass included (R M0_tt R^T c)
+            bx = M0[0, 0] * (Rm[0, 0] * cx + Rm[1, 0] * cy + Rm[2, 0] * cz) \
+                + M0[0, 1] * (Rm[0, 1] * cx + Rm[1, 1] * cy + Rm[2, 1] * cz) \
+                + M0[0, 2] * (Rm[0, 2] * cx + Rm[1, 2] * cy + Rm[2, 2] * cz)
+            by = M0[1, 0] * (Rm[0, 0] * cx + Rm[1, 0] * cy + Rm[2, 0] * cz) \
+                + M0[1, 1] * (Rm[0, 1] * cx + Rm[1, 1] * cy + Rm[2, 1] * cz) \
+                + M0[1, 2] * (Rm[0, 2] * cx + Rm[1, 2] * cy + Rm[2, 2] * cz)
+            bz = M0[2, 0] * (Rm[0, 0] * cx + Rm[1, 0] * cy + Rm[2, 0] * cz) \
+                + M0[2, 1] * (Rm[0, 1] * cx + Rm[1, 1] * cy + Rm[2, 1] * cz) \
+                + M0[2, 2] * (Rm[0, 2] * cx + Rm[1, 2] * cy + Rm[2, 2] * cz)
+            cx, cy, cz = matvec3(Rm, bx, by, bz)
+        else:
+            # the rigid mass turns with the CG; the added mass acts at the reference point
+            cx, cy, cz = m * cx, m * cy, m * cz
+        F6[0] -= cx
+        F6[1] -= cy
+        F6[2] += fg - cz
         gx, gy, gz = cross3(cgx, cgy, cgz, 0.0, 0.0, fg)
         F6[3] += gx
         F6[4] += gy

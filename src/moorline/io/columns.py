@@ -418,6 +418,7 @@ OPTION_TABLE = (
     ("ICgenDynamic", ("genDynamicIC",), "options", "ICgenDynamic", _flag01),
     ("ICNewton", (), "options", "ICNewton", _auto01),
     ("ClampMoment", (), "options", "ClampMoment", _flag01),
+    ("InertialLoads", (), "options", "InertialLoads", _choice("full", "moordyn")),
     ("dtOut", (), "options", "dtOut", _nonneg),
     ("fileIC", ("ICfile",), "options", "fileIC", _state_file),
     ("SyropeWorkingCurve", (), "options", "SyropeWorkingCurve", _choice("segment", "line")),

@@ -7,13 +7,14 @@ package in tests/conformance/test_oracle_file_ic.py), all numbers little-endian:
 - the number of 8-byte words that follow (uint64);
 - the number of objects (uint64), then for each object, in the order bodies, rods, points, lines:
   its rows and columns (uint64 each) and rows x columns float64 values, row by row. A body or rod
-  is one row of 13 (MoorDyn's pose and velocity; zero for objects without a state of their own),
-  a point one row of 6 (position, velocity; zero unless free), a line N - 1 rows of 6 (position and
-  velocity of each internal node).
+  is one row of 13 (position, quaternion, velocity, angular velocity; zero for objects without a
+  state of their own), a point one row of 6 (position, velocity; zero unless free), a line N - 1
+  rows of 6 (position and velocity of each internal node), with one more column for VIV lines and
+  one more row and column for viscoelastic and Syrope lines (what each value is:
+  :mod:`moorline.system.moordyn_start`, which puts them into a system).
 
-Schemes that carry more than the state (MoorDyn's multi-step schemes) and lines with states of
-their own write more; :func:`read_moordyn_state` returns whatever is there and the system checks the
-shapes it needs.
+Schemes that carry more than the state (MoorDyn's multi-step schemes) write more objects;
+:func:`read_moordyn_state` returns whatever is there and the system checks the shapes it needs.
 """
 
 from __future__ import annotations

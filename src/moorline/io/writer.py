@@ -52,7 +52,8 @@ _ROD_WORD = {RodKind.FIXED: "Fixed", RodKind.PINNED: "Pinned", RodKind.COUPLED: 
              RodKind.COUPLED_PINNED: "CoupledPinned", RodKind.FREE: "Free"}
 _SAFE = re.compile(r"[^A-Za-z0-9_.-]")
 #: options of moorline's own (MoorDyn warns about them) and the seabed friction keys v1 lacks
-_MOORLINE_KEYS = ("FrictionModel", "SeabedContact", "kShear", "ICNewton", "SyropeWorkingCurve", "ClampMoment")
+_MOORLINE_KEYS = ("FrictionModel", "SeabedContact", "kShear", "ICNewton", "SyropeWorkingCurve", "ClampMoment",
+                  "InertialLoads")
 _FRICTION_KEYS = ("FrictionCoefficient", "FricDamp", "StatDynFricScale", "mu_kT", "mu_kA", "mc", "cv")
 #: water-kinematics option -> the files MoorDyn reads for each value (waterkin.FILES keys)
 _WAVE_FILES = {2: ("frequencies", "grid"), 3: ("elevation", "grid"), 7: ("frequencies",)}

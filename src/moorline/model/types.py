@@ -680,6 +680,11 @@ class Options:
     #: the bending moment of a cable clamped to a rod acts on the rod (1, moorline) or is not passed
     #: to it (0, MoorDyn-C 2.7)
     ClampMoment: int = 1
+    #: velocity-dependent inertial loads of rods and bodies: 'full' (moorline: the centripetal and
+    #: gyroscopic loads of free and pinned rods, and a body's centrifugal force of its CG offset with
+    #: its rigid mass) or 'moordyn' (MoorDyn-C 2.7: rods without them, and that centrifugal force with
+    #: the body's translational mass including its added mass)
+    InertialLoads: str = "full"
     #: MoorDyn's saved state (a MoorDyn-C SaveState file) to start from, read after the catenary
     #: start and before the initial-condition solve (None: none)
     fileIC: str | None = None

@@ -41,8 +41,7 @@ from ..core.rhs import rhs
 from ..core.rigid import body_kinematics, body_point_kinematics, rod_kinematics, rod_nodes
 from ..core.seabed import resting_penetration, seabed_at
 from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
-from ..errors import DeckError, SimulationError
-from ..io.moordyn_state import read_moordyn_state
+from ..errors import SimulationError
 from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
 
 if TYPE_CHECKING:
@@ -591,56 +590,3 @@ def quasistatic_equilibrium(sys: System, *, tol: float = 1e-7, max_outer: int = 
     sys.ic_report.update(method="newton on quasi-static lines", outer_iterations=outer, converged=False)
     raise SimulationError("the floating bodies found no equilibrium on the quasi-static lines (Newton statics of "
                           f"the linearised loads did not settle in {outer} linearisations)", time=0.0)
-
-
-def start_from_moordyn_state(sys: System, path) -> None:
-    """Put MoorDyn's saved state ``path`` (the deck's ``fileIC``, a MoorDyn-C SaveState file; see
-    :mod:`moorline.io.moordyn_state`) into the state: the internal nodes of every line and the free
-    points, positions and velocities, and the lift phase of the internal nodes of VIV lines. Bodies
-    and rods with states of their own (free, pinned) are not read: MoorDyn's rows for them are
-    refused unless they hold nothing."""
-    version, objs = read_moordyn_state(path)
-    m = sys.model
-    nb, nr, npnt, nl = len(m.bodies), len(m.rods), len(m.points), len(m.lines)
-    if len(objs) != nb + nr + npnt + nl:
-        raise DeckError(f"MoorDyn {version[0]}.{version[1]} state file with {len(objs)} objects; this deck has "
-                        f"{nb} bodies, {nr} rods, {npnt} points and {nl} lines ({nb + nr + npnt + nl} objects). "
-                        f"Was it saved from this deck, with a single-step time scheme?", file=str(path),
-                        field="fileIC")
-    R = sys.layout.rigid
-    for what, first, count, held in (("body", 0, nb, R.body_blk), ("rod", nb, nr, np.maximum(R.rod_blk, R.rod_row))):
-        for k in range(count):
-            if held[k] >= 0 and np.any(objs[first + k] != 0.0):
-                raise DeckError(f"the MoorDyn state file holds a state for {what} {k + 1}, which moves on its own; "
-                                f"moorline reads the lines and points of MoorDyn's state files, not the poses of "
-                                f"free or pinned bodies and rods", file=str(path), field="fileIC")
-    for p in range(npnt):
-        a = objs[nb + nr + p]
-        if a.shape != (1, 6):
-            raise DeckError(f"point {p + 1}: expected 1 x 6 values (position, velocity), got {a.shape[0]} x "
-                            f"{a.shape[1]}", file=str(path), field="fileIC")
-    points = np.vstack([objs[nb + nr + p] for p in range(npnt)]) if npnt else np.zeros((0, 6))
-    L = sys.layout.lines
-    lines = []
-    phases = []  # (index in the state, VIV phase) of the internal nodes of VIV lines
-    xo = sys.layout.xs_offset
-    for li in range(nl):
-        a = objs[nb + nr + npnt + li]
-        n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
-        viv = n1 - n0 > 2 and bool(np.all(L.node_xs[n0 + 1:n1 - 1] >= 0))
-        if viv and a.shape == (n1 - n0 - 2, 7):
-            # MoorDyn's VIV lines save each internal node's lift phase after its position and velocity
-            phases += [(xo + int(L.node_xs[n]), float(a[n - n0 - 1, 6])) for n in range(n0 + 1, n1 - 1)]
-            a = a[:, :6]
-        if a.shape != (n1 - n0 - 2, 6):
-            raise DeckError(f"line {li + 1}: expected {n1 - n0 - 2} x 6 values (position and velocity of each "
-                            f"internal node), got {a.shape[0]} x {a.shape[1]} (MoorDyn writes more for lines "
-                            f"with states of their own; moorline does not read those)", file=str(path),
-                            field="fileIC")
-        lines.append(np.pad(a, ((1, 1), (0, 0))))  # MoorDyn saves the internal nodes: the ends are not state
-    # the state rows only (the initial-condition solve that follows evaluates and restarts the scheme)
-    sys._put_state([a[:, :3] for a in lines], [a[:, 3:] for a in lines], points[:, :3], points[:, 3:])
-    for k, phi in phases:
-        sys.y[k] = phi
-    sys.ic_report["file_ic"] = str(path)
-    log.info("started from MoorDyn's saved state %s (MoorDyn %d.%d)", path, *version)

@@ -57,9 +57,9 @@ from .initial import (
     quasistatic_equilibrium,
     report_residual,
     solve_initial_conditions,
-    start_from_moordyn_state,
 )
 from .limits import check_model
+from .moordyn_start import start_from_moordyn_state
 from .qsmooring import QuasiStaticMooring
 from .views import BodyView, LineView, PointView, RodView
 
