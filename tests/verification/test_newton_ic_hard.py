@@ -60,12 +60,18 @@ def _started(path: Path) -> System:
     return s
 
 
-def test_lifting_point_hangs_at_the_analytic_stretch():
-    _need(LIFTING)
-    s = _started(LIFTING)
+def _converged(path: Path, method: str) -> System:
+    """The deck started (skipped if absent), its start converged by ``method`` and at rest."""
+    _need(path)
+    s = _started(path)
     rep = s.ic_report
-    assert rep["converged"] and rep["method"] == "relaxation-newton alternation", rep
+    assert rep["converged"] and rep["method"] == method, rep
     assert rep["residual"] < 1e-5
+    return s
+
+
+def test_lifting_point_hangs_at_the_analytic_stretch():
+    s = _converged(LIFTING, "relaxation-newton alternation")
     lt = s.model.line_types["main"]
     g = s.layout.env.g
     L = 100.5
@@ -124,9 +130,5 @@ def test_moorpy_case5_line_too_long_for_an_l():
 
 
 def test_viv_start_is_measured_without_the_lift():
-    _need(VIV)
-    s = _started(VIV)
-    rep = s.ic_report
-    assert rep["converged"] and rep["method"] == "newton", rep
-    assert rep["residual"] < 1e-5
+    s = _converged(VIV, "newton")
     assert s.layout.lines.xs_ctl[initial.XC_VIV] == 1.0  # VIV is on again for the run
