@@ -801,6 +801,14 @@ def quat_from_matrix(R: np.ndarray) -> np.ndarray:
     return q / np.linalg.norm(q) * (1.0 if q[0] >= 0 else -1.0)
 
 
+def quat_product(a, b) -> np.ndarray:
+    """Hamilton product a (x) b of quaternions (w, x, y, z)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
+
+
 def quat_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Unit quaternion (w, x, y, z) of the smallest rotation taking unit vector a to b."""
     a = a / np.linalg.norm(a)

@@ -201,6 +201,13 @@ def matvec3(Rm, x, y, z):
 
 
 @kernel(inline="always")
+def mattvec3(Rm, x, y, z):
+    """Rm^T (x, y, z) for a 3x3 matrix Rm (a rotation's global -> body axes)."""
+    return (Rm[0, 0] * x + Rm[1, 0] * y + Rm[2, 0] * z, Rm[0, 1] * x + Rm[1, 1] * y + Rm[2, 1] * z,
+            Rm[0, 2] * x + Rm[1, 2] * y + Rm[2, 2] * z)
+
+
+@kernel(inline="always")
 def quat_mul(aw, ax, ay, az, b, ob, out, oo):
     """out[oo:oo+4] = (aw, ax, ay, az) (x) b[ob:ob+4], quaternions (w, x, y, z)."""
     bw = b[ob]

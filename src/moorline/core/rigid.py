@@ -36,6 +36,7 @@ from .numerics import (
     add_translated6,
     cross3,
     euler_R,
+    mattvec3,
     matvec3,
     quat_rate,
     quat_to_R,
@@ -777,15 +778,8 @@ def rigid_dynamics(y, dy, R, P, E, W):
         if R.inertia[0] == INERTIA_MOORDYN:
             # MoorDyn-C 2.7: the centrifugal force of the CG offset with the body's own translational
             # mass in global axes, added mass included (R M0_tt R^T c)
-            bx = M0[0, 0] * (Rm[0, 0] * cx + Rm[1, 0] * cy + Rm[2, 0] * cz) \
-                + M0[0, 1] * (Rm[0, 1] * cx + Rm[1, 1] * cy + Rm[2, 1] * cz) \
-                + M0[0, 2] * (Rm[0, 2] * cx + Rm[1, 2] * cy + Rm[2, 2] * cz)
-            by = M0[1, 0] * (Rm[0, 0] * cx + Rm[1, 0] * cy + Rm[2, 0] * cz) \
-                + M0[1, 1] * (Rm[0, 1] * cx + Rm[1, 1] * cy + Rm[2, 1] * cz) \
-                + M0[1, 2] * (Rm[0, 2] * cx + Rm[1, 2] * cy + Rm[2, 2] * cz)
-            bz = M0[2, 0] * (Rm[0, 0] * cx + Rm[1, 0] * cy + Rm[2, 0] * cz) \
-                + M0[2, 1] * (Rm[0, 1] * cx + Rm[1, 1] * cy + Rm[2, 1] * cz) \
-                + M0[2, 2] * (Rm[0, 2] * cx + Rm[1, 2] * cy + Rm[2, 2] * cz)
+            tx, ty, tz = mattvec3(Rm, cx, cy, cz)
+            bx, by, bz = matvec3(M0, tx, ty, tz)  # M0's translational block (its top-left 3x3)
             cx, cy, cz = matvec3(Rm, bx, by, bz)
         else:
             # the rigid mass turns with the CG; the added mass acts at the reference point
@@ -810,9 +804,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
             if um == 0.0:
                 continue
             # body-axis components, scaled by CdA, back to global
-            bx = Rm[0, 0] * ux + Rm[1, 0] * uy + Rm[2, 0] * uz
-            by = Rm[0, 1] * ux + Rm[1, 1] * uy + Rm[2, 1] * uz
-            bz = Rm[0, 2] * ux + Rm[1, 2] * uy + Rm[2, 2] * uz
+            bx, by, bz = mattvec3(Rm, ux, uy, uz)
             c0 = 0.5 * E.rho * um
             bx *= c0 * R.body_CdA[i, 3 * part]
             by *= c0 * R.body_CdA[i, 3 * part + 1]

@@ -57,10 +57,9 @@ def _quat(R: np.ndarray) -> np.ndarray:
 
 def _quat_conj_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a^-1 (x) b for unit quaternions (w, x, y, z)."""
-    aw, ax, ay, az = a[0], -a[1], -a[2], -a[3]
-    bw, bx, by, bz = b
-    return np.array([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
+    from ..core.layout import quat_product
+
+    return quat_product((a[0], -a[1], -a[2], -a[3]), b)
 
 
 def load_coefficients(h, env, model=None):

@@ -204,20 +204,17 @@ def place_line(layout: Layout, li: int, out: np.ndarray, y: np.ndarray) -> None:
     start_line_states(layout, li, out, y)
 
 
-def fold_too_long_lines(sys: System, W) -> list[int]:
+def fold_too_long_lines(sys: System, W) -> None:
     """Newton's start for the lines whose catenary is "too long" (left on their straight chord by
     :func:`catenary_start`, as MoorDyn leaves them, every segment slack): the folded "L" of
-    :func:`folded_l_nodes`. Returns the indices of the lines moved."""
+    :func:`folded_l_nodes`."""
     lay = sys.layout
-    moved = []
     for number in sys.ic_report.get("catenary_too_long", []):
         li = number - 1
         rA, rB = end_points(lay, li, W)
         out = np.zeros((int(lay.line_N[li]) + 1, 3))
         folded_l_nodes(rA, rB, float(lay.line_L[li]), out.shape[0] - 1, out)
         place_line(lay, li, out, sys.y)
-        moved.append(li)
-    return moved
 
 
 def folded_l_nodes(rA: np.ndarray, rB: np.ndarray, L: float, N: int, out: np.ndarray) -> None:

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.layout import quat_product
 from ..core.linestates import VIS_ELASTIC
 from ..errors import DeckError
 from ..io.moordyn_state import read_moordyn_state
@@ -53,14 +54,6 @@ NODE_COLS = 6
 def _quat(row: np.ndarray) -> np.ndarray:
     """moorline's (w, x, y, z) from MoorDyn's row, which holds Eigen's coefficients (x, y, z, w)."""
     return np.array([row[6], row[3], row[4], row[5]])
-
-
-def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product a (x) b of quaternions (w, x, y, z)."""
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return np.array([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
 
 
 def _line_layout(sys: System, li: int) -> tuple[int, bool, bool]:
@@ -128,7 +121,7 @@ def start_from_moordyn_state(sys: System, path) -> None:
             raise bad(f"rod {k + 1}: the orientation quaternion {Q.tolist()} is not a rotation")
         if rod.kind == RodKind.BODY_PINNED:
             Qb = R.body_Q0[int(R.rod_body[k])]
-            Q = _qmul(Q, np.array([Qb[0], -Qb[1], -Qb[2], -Qb[3]]) / float(np.dot(Qb, Qb)))
+            Q = quat_product(Q, np.array([Qb[0], -Qb[1], -Qb[2], -Qb[3]]) / float(np.dot(Qb, Qb)))
         q, u = lay.block_slices(j)
         if rod.kind == RodKind.FREE:
             writes += [(slice(q.start, q.start + 3), a[:3]), (slice(u.start, u.start + 3), a[7:10])]
