@@ -178,6 +178,7 @@ def load(system: System, path) -> dict:
         info = json.loads(str(data.pop("info")))
     except (OSError, ValueError, KeyError) as e:
         raise CheckpointError(f"{path}: not a readable moorline checkpoint ({e})") from None
+    system._drop_step_plan()  # (made again by the next step(): the failures below may replace what it holds)
     if info.get("failures"):
         failures.replay(system, info["failures"])  # the lines released before the checkpoint, released again
     if "implicit_par" in data:

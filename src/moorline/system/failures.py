@@ -205,6 +205,7 @@ def _rebuild(sys: System, model) -> None:
     sys._dy_eval = fresh._dy_eval
     sys._imp = None
     sys._features_key = None
+    sys._drop_step_plan()  # (it holds the old layout, state and Work arrays)
     sys.points += [PointView(sys, i) for i in range(len(sys.points), len(model.points))]
 
 
@@ -218,6 +219,7 @@ def fire(sys: System, ev: FailureEvent, trigger: str, *, new_point: str) -> None
     ev.trigger = trigger
     ev.released = lines
     ev.new_point = new_point
+    sys._drop_step_plan()  # (one pending failure fewer: step() may take its fast path again)
     if not lines:
         log.warning("failure at %s at t = %.6g s: lines %s are no longer attached there; nothing to release", att,
                     sys.t, ", ".join(str(li + 1) for li in f.lines))
@@ -262,3 +264,4 @@ def replay(sys: System, records: list[dict]) -> None:
             release(sys, att, ev.released, new_point=ev.new_point, at=r["at"])
         events.append(ev)
     sys.failures = events
+    sys._drop_step_plan()

@@ -61,6 +61,7 @@ from .initial import (
 from .limits import check_model
 from .moordyn_start import start_from_moordyn_state
 from .qsmooring import QuasiStaticMooring
+from .stepplan import F8, make_plan
 from .views import BodyView, LineView, PointView, RodView
 
 log = logging.getLogger("moorline")
@@ -148,6 +149,7 @@ class System:
         self._gather = self._coupled_gather()
         self._call_advance = FastCall()
         self._call_rhs = FastCall()
+        self._plan = None  # the coupling step's fast path (system.stepplan), made by the first step()
         self.lines = [LineView(self, i) for i in range(len(model.lines))]
         self.points = [PointView(self, i) for i in range(len(model.points))]
         self.rods = [RodView(self, i) for i in range(len(model.rods))]
@@ -235,6 +237,7 @@ class System:
             f = features_of(lay, self.scheme)
             if f != self.work.features:
                 self.work = self.work._replace(features=f)
+                self._drop_step_plan()
             self._features_key = key
         return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work, lay.fl, self.fwork
 
@@ -253,6 +256,11 @@ class System:
         L.xs_ctl[XC_HIST] = hist
         if viv:
             W.acc[...] = acc  # VIV's "previous evaluation" stays the last one of the step
+
+    def _drop_step_plan(self) -> None:
+        """Forget the coupling step's fast path (:mod:`moorline.system.stepplan`): called by every
+        path that replaces an object it holds; the next ``step`` makes it again."""
+        self._plan = None
 
     _FORCE_FIELD = {"body": "b6F", "rod": "rod6F", "point": "pF"}  # Work arrays of the coupled loads
 
@@ -312,6 +320,7 @@ class System:
         if x is None:
             x = self.deck_coupled_positions()
         xd = self._check_dof(xd, "xd")
+        self._drop_step_plan()
         self.t = 0.0
         self._motion = static_motion(x)
         B = self.layout.seabed
@@ -385,6 +394,46 @@ class System:
         """
         if not self.initialized:
             raise RuntimeError("call init() before step()")
+        p = self._plan
+        if p is None or not p.current(self):
+            p = self._plan = make_plan(self)
+        if p.fn is not None:
+            t = float(t)
+            dt = float(dt)
+            if dt >= 1e-300 and (out is None or (type(out) is np.ndarray and out.shape == p.shape
+                                                 and out.dtype is F8)):
+                # the fast path (system.stepplan): the general path's arithmetic with the kept call
+                if x is None:
+                    p.cx[...] = p.deck_x
+                elif type(x) is np.ndarray and x.shape == p.shape and x.dtype is F8:
+                    p.cx[...] = x
+                else:
+                    p.cx[...] = self._check_dof(x, "x")
+                if xd is None:
+                    p.cxd[...] = 0.0
+                elif type(xd) is np.ndarray and xd.shape == p.shape and xd.dtype is F8:
+                    p.cxd[...] = xd
+                else:
+                    p.cxd[...] = self._check_dof(xd, "xd")
+                tk = p.tk
+                tk[0] = t
+                tk[1] = t_end = t + dt
+                self._motion = p.motion
+                self.t, bad, _, _ = p.fn(*p.head, t, t_end, *p.tail)
+                if bad >= 0:
+                    raise self._instability(self.t, int(bad), "")
+                if not self._grid_warned and p.bed_ctl[2] > 0:
+                    self._check_grid()
+                if out is None:
+                    out = np.empty(p.shape)
+                if p.take is None:
+                    return p.gather(out)
+                p.take(p.idx, out=out, mode="clip")  # (one kind of coupled object: one take)
+                return out
+        return self._step_general(x, xd, t, dt, out)
+
+    def _step_general(self, x, xd, t, dt, out) -> np.ndarray:
+        """:meth:`step` where its fast path does not apply (every case; see :mod:`.stepplan`)."""
         mo = self._step_motion
         c = mo.c
         c[0, :, 0] = self._deck_x if x is None else self._check_dof(x, "x")
@@ -500,6 +549,7 @@ class System:
         :class:`~moorline.system.failures.FailureEvent`."""
         ev = new_event(self, attachment, lines, time, tension)
         self.failures.append(ev)
+        self._drop_step_plan()  # (a pending failure: step() takes the general path, which checks it)
         return ev
 
     def break_line(self, line, end: str, *, new_point: str | None = None) -> int:

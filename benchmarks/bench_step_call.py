@@ -1,0 +1,153 @@
+"""What one coupling step costs beyond its compiled work: ``System.step``'s fast path against its
+general path, and both against the compiled entry point called directly.
+
+    python benchmarks/bench_step_call.py [--calls 2000] [--rounds 7] [--dt 0.01] [DECK ...]
+
+Default decks: MoorDyn's WD0050_Chain and bench no_waves (../shared/public_decks) and the README
+example (examples/catenary_3line). For each deck, four systems are built from it, initialised
+alike and driven alike (every coupled ``_x`` DOF surging as in ``bench_public_decks.py``, the
+trajectory's x and xd computed before timing), in one process, in interleaved rounds of
+``--calls`` calls; the minimum (and median) over the rounds, per call, of the wall time:
+
+- ``general``: ``System._step_general``, the path ``step`` takes where its fast path does not apply
+  (and the only path before the fast path was added: its code is that of main at 8006fde);
+- ``fast``: ``System.step`` (its fast path, :mod:`moorline.system.stepplan`);
+- ``entry``: the time loop's compiled entry point called directly with the fast path's argument
+  tuple for the same step, after the same copies of x, xd and t into the trajectory's
+  coefficients (what is left when the Python side is removed: the compiled work and the unboxing
+  of the arguments); ``entry, no end evaluation``: the same with ``final_eval`` false (the loads
+  then describe the last stage: not what ``step`` reports, timed only to measure the cost of the
+  end-of-step evaluation);
+- ``floor``: the entry point with nothing to integrate and no end evaluation (numba unboxing the
+  ~220 arrays of the argument tuple, the call's fixed cost);
+- ``Python side, general`` and ``Python side, fast``: the two paths with the compiled call
+  replaced by a Python function that returns at once what the time loop returns (the kept entry
+  point of ``FastCall`` and of the fast path's plan swapped for it after the first real call),
+  which measures the Python side alone, without the noise of the compiled work (the stand-in's
+  own call, about 0.05 us, included).
+
+Not a test: timings on a shared machine are noisy
+(read the load average printed first; the minimum over rounds is the figure least affected).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from bench_public_decks import surge_of  # noqa: E402
+
+from moorline import System  # noqa: E402
+
+PUBLIC = HERE.parent.parent / "shared" / "public_decks" / "FloatingArrayDesign+MoorDyn"
+DECKS = [PUBLIC / "tests" / "Mooring" / "WD0050_Chain.txt", PUBLIC / "bench" / "Mooring" / "no_waves.txt",
+         HERE.parent / "examples" / "catenary_3line" / "catenary_3line.dat"]
+
+
+def trajectory(s: System, n: int, dt: float):
+    X = surge_of(s.coupled_dof_labels, s.deck_coupled_positions())
+    xs = [X(k * dt) for k in range(n + 1)]
+    return xs, [(xs[k + 1] - xs[k]) / dt for k in range(n)]
+
+
+def _returns_at_once(y, t, t_end, *rest):
+    """Stands in for the compiled time loop when only the Python side is timed."""
+    return t_end, -1, 1, 0
+
+
+COLS = ("general", "fast", "entry", "entry, no end evaluation", "floor", "Python side, general",
+        "Python side, fast")
+
+
+def bench(deck: Path, calls: int, rounds: int, dt: float) -> dict:
+    systems = {}
+    for name in COLS:
+        s = System.from_file(deck)
+        s.init()
+        s.warm_up()
+        systems[name] = s
+    n = s.n_coupled_dof
+    xs, vs = trajectory(s, calls * rounds + 1, dt)
+    outs = {k: np.empty(n) for k in systems}
+    # the first call of each makes the fast path's plan (and of "entry": the argument tuple used below)
+    for name, s in systems.items():
+        s.step(xs[0], vs[0], 0.0, dt, out=outs[name])
+        if name == "Python side, general":
+            s._step_general(xs[0], vs[0], 0.0, dt, outs[name])
+            assert s._call_advance._fn is not None
+            s._call_advance._fn = _returns_at_once
+        elif name == "Python side, fast":
+            s._plan.fn = _returns_at_once
+    times = {k: [] for k in systems}
+    k0 = 1
+    for _ in range(rounds):
+        for name, s in systems.items():
+            out = outs[name]
+            ks = range(k0, k0 + calls)
+            if name in ("general", "Python side, general"):
+                step = s._step_general
+                t0 = time.perf_counter()
+                for k in ks:
+                    step(xs[k], vs[k], k * dt, dt, out)
+                el = time.perf_counter() - t0
+            elif name in ("fast", "Python side, fast"):
+                step = s.step
+                t0 = time.perf_counter()
+                for k in ks:
+                    step(xs[k], vs[k], k * dt, dt, out=out)
+                el = time.perf_counter() - t0
+            else:
+                p = s._plan
+                fn, y, tk, cx, cxd = p.fn, p.head[0], p.tk, p.cx, p.cxd
+                tail = p.tail[:-1] + (name == "entry",)
+                h = 0.0 if name == "floor" else dt
+                t0 = time.perf_counter()
+                for k in ks:
+                    cx[...] = xs[k]
+                    cxd[...] = vs[k]
+                    t = k * dt
+                    tk[0] = t
+                    tk[1] = t + dt
+                    fn(y, t, t + h, *tail)
+                el = time.perf_counter() - t0
+            times[name].append(el / calls * 1e6)
+        k0 += calls
+    g, f = systems["general"], systems["fast"]
+    if not (np.array_equal(g.coupled_forces(), f.coupled_forces()) and np.array_equal(g.y, f.y)):
+        raise AssertionError(f"{deck.name}: the fast and general paths differ")
+    return {"deck": deck.name, "nodes": int(f.work.r.shape[0]), "scheme": f.scheme_label,
+            "dtM": f.dtM, "min": {k: min(v) for k, v in times.items()},
+            "median": {k: statistics.median(v) for k, v in times.items()}}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("decks", nargs="*", type=Path)
+    ap.add_argument("--calls", type=int, default=2000)
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--dt", type=float, default=0.01)
+    a = ap.parse_args(argv)
+    print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f}; {a.rounds} rounds of {a.calls} calls, "
+          f"dt {a.dt} s; per call [us], minimum over rounds (median)")
+    print("| deck | nodes | scheme | dtM [s] | " + " | ".join(COLS) + " | fast - entry | end evaluation |")
+    print("|---|---:|---|---:|" + "---:|" * (len(COLS) + 2))
+    for deck in a.decks or DECKS:
+        r = bench(deck, a.calls, a.rounds, a.dt)
+        m, md = r["min"], r["median"]
+        cells = [f"{m[c]:.2f} ({md[c]:.2f})" for c in COLS]
+        extra = [m["fast"] - m["entry"], m["entry"] - m["entry, no end evaluation"]]
+        print(f"| {r['deck']} | {r['nodes']} | {r['scheme']} | {r['dtM']:.3g} | " + " | ".join(cells) + " | "
+              + " | ".join(f"{v:.2f}" for v in extra) + " |", flush=True)
+    print(f"load average {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
