@@ -1,7 +1,7 @@
 """What one coupling step costs beyond its compiled work: ``System.step``'s fast path against its
 general path, and both against the compiled entry point called directly.
 
-    python benchmarks/bench_step_call.py [--calls 2000] [--rounds 7] [--dt 0.01] [DECK ...]
+    python benchmarks/bench_step_call.py [--calls 2000] [--rounds 7] [--dt 0.01] [--no-moordyn] [DECK ...]
 
 Default decks: MoorDyn's WD0050_Chain and bench no_waves (../shared/public_decks) and the README
 example (examples/catenary_3line). For each deck, four systems are built from it, initialised
@@ -19,7 +19,11 @@ trajectory's x and xd computed before timing), in one process, in interleaved ro
   then describe the last stage: not what ``step`` reports, timed only to measure the cost of the
   end-of-step evaluation);
 - ``floor``: the entry point with nothing to integrate and no end evaluation (numba unboxing the
-  ~220 arrays of the argument tuple, the call's fixed cost);
+  ~220 arrays of the argument tuple, the call's fixed cost); ``floor + end evaluation``: nothing
+  to integrate, the end evaluation done (so the difference of the two is what the evaluation
+  ``step`` adds after its last step costs, measured without the noise of the integration);
+- ``MoorDyn``: MoorDyn-C 2.7.2's ``Step`` (the ``moordyn`` package) on the same trajectory, when
+  the package is installed (``--no-moordyn`` leaves it out), the x and xd lists made before timing;
 - ``Python side, general`` and ``Python side, fast``: the two paths with the compiled call
   replaced by a Python function that returns at once what the time loop returns (the kept entry
   point of ``FastCall`` and of the fast path's plan swapped for it after the first real call),
@@ -33,6 +37,7 @@ Not a test: timings on a shared machine are noisy
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import statistics
 import sys
@@ -44,6 +49,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from bench_public_decks import surge_of  # noqa: E402
+from bench_vs_moordyn import moordyn_copy  # noqa: E402
 
 from moorline import System  # noqa: E402
 
@@ -63,11 +69,22 @@ def _returns_at_once(y, t, t_end, *rest):
     return t_end, -1, 1, 0
 
 
-COLS = ("general", "fast", "entry", "entry, no end evaluation", "floor", "Python side, general",
-        "Python side, fast")
+COLS = ("general", "fast", "entry", "entry, no end evaluation", "floor", "floor + end evaluation",
+        "Python side, general", "Python side, fast")
 
 
-def bench(deck: Path, calls: int, rounds: int, dt: float) -> dict:
+def bench(deck: Path, calls: int, rounds: int, dt: float, with_moordyn: bool) -> dict:
+    md = None
+    if with_moordyn:
+        try:
+            import moordyn as md
+        except ImportError:
+            md = None
+    with moordyn_copy(deck) if md else contextlib.nullcontext():
+        return _bench(deck, calls, rounds, dt, md)
+
+
+def _bench(deck: Path, calls: int, rounds: int, dt: float, md) -> dict:
     systems = {}
     for name in COLS:
         s = System.from_file(deck)
@@ -87,8 +104,19 @@ def bench(deck: Path, calls: int, rounds: int, dt: float) -> dict:
         elif name == "Python side, fast":
             s._plan.fn = _returns_at_once
     times = {k: [] for k in systems}
+    if md is not None:
+        m = md.Create(deck.name)
+        md.Init(m, list(xs[0]), [0.0] * n)
+        md.Step(m, list(xs[0]), list(vs[0]), 0.0, dt)
+        xl, vl = [list(x) for x in xs], [list(v) for v in vs]
+        times["MoorDyn"] = []
     k0 = 1
     for _ in range(rounds):
+        if md is not None:
+            t0 = time.perf_counter()
+            for k in range(k0, k0 + calls):
+                md.Step(m, xl[k], vl[k], k * dt, dt)
+            times["MoorDyn"].append((time.perf_counter() - t0) / calls * 1e6)
         for name, s in systems.items():
             out = outs[name]
             ks = range(k0, k0 + calls)
@@ -107,8 +135,8 @@ def bench(deck: Path, calls: int, rounds: int, dt: float) -> dict:
             else:
                 p = s._plan
                 fn, y, tk, cx, cxd = p.fn, p.head[0], p.tk, p.cx, p.cxd
-                tail = p.tail[:-1] + (name == "entry",)
-                h = 0.0 if name == "floor" else dt
+                tail = p.tail[:-1] + (name in ("entry", "floor + end evaluation"),)
+                h = 0.0 if name.startswith("floor") else dt
                 t0 = time.perf_counter()
                 for k in ks:
                     cx[...] = xs[k]
@@ -120,6 +148,8 @@ def bench(deck: Path, calls: int, rounds: int, dt: float) -> dict:
                 el = time.perf_counter() - t0
             times[name].append(el / calls * 1e6)
         k0 += calls
+    if md is not None:
+        md.Close(m)
     g, f = systems["general"], systems["fast"]
     if not (np.array_equal(g.coupled_forces(), f.coupled_forces()) and np.array_equal(g.y, f.y)):
         raise AssertionError(f"{deck.name}: the fast and general paths differ")
@@ -134,16 +164,18 @@ def main(argv=None):
     ap.add_argument("--calls", type=int, default=2000)
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--dt", type=float, default=0.01)
+    ap.add_argument("--no-moordyn", action="store_true", help="leave MoorDyn out")
     a = ap.parse_args(argv)
     print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f}; {a.rounds} rounds of {a.calls} calls, "
           f"dt {a.dt} s; per call [us], minimum over rounds (median)")
-    print("| deck | nodes | scheme | dtM [s] | " + " | ".join(COLS) + " | fast - entry | end evaluation |")
-    print("|---|---:|---|---:|" + "---:|" * (len(COLS) + 2))
+    cols = COLS + (() if a.no_moordyn else ("MoorDyn",))
+    print("| deck | nodes | scheme | dtM [s] | " + " | ".join(cols) + " | entry - floor | end evaluation |")
+    print("|---|---:|---|---:|" + "---:|" * (len(cols) + 2))
     for deck in a.decks or DECKS:
-        r = bench(deck, a.calls, a.rounds, a.dt)
+        r = bench(deck, a.calls, a.rounds, a.dt, not a.no_moordyn)
         m, md = r["min"], r["median"]
-        cells = [f"{m[c]:.2f} ({md[c]:.2f})" for c in COLS]
-        extra = [m["fast"] - m["entry"], m["entry"] - m["entry, no end evaluation"]]
+        cells = [f"{m[c]:.2f} ({md[c]:.2f})" if c in m else "-" for c in cols]
+        extra = [m["entry"] - m["floor"], m["floor + end evaluation"] - m["floor"]]
         print(f"| {r['deck']} | {r['nodes']} | {r['scheme']} | {r['dtM']:.3g} | " + " | ".join(cells) + " | "
               + " | ".join(f"{v:.2f}" for v in extra) + " |", flush=True)
     print(f"load average {os.getloadavg()[0]:.2f}")
