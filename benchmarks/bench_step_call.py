@@ -1,7 +1,8 @@
 """What one coupling step costs beyond its compiled work: ``System.step``'s fast path against its
 general path, and both against the compiled entry point called directly.
 
-    python benchmarks/bench_step_call.py [--calls 2000] [--rounds 7] [--dt 0.01] [--no-moordyn] [DECK ...]
+    python benchmarks/bench_step_call.py [--calls 2000] [--rounds 7] [--dt 0.01] [--no-moordyn]
+                                         [--loads-at end|last_stage] [DECK ...]
 
 Default decks: MoorDyn's WD0050_Chain and bench no_waves (../shared/public_decks) and the README
 example (examples/catenary_3line). For each deck, four systems are built from it, initialised
@@ -29,6 +30,11 @@ trajectory's x and xd computed before timing), in one process, in interleaved ro
   point of ``FastCall`` and of the fast path's plan swapped for it after the first real call),
   which measures the Python side alone, without the noise of the compiled work (the stand-in's
   own call, about 0.05 us, included).
+
+``--loads-at last_stage`` builds the systems with MoorDyn's convention (that of
+:mod:`moorline.moordyn`): each call then ends with an evaluation at the state reached, over which
+the last stage's loads are kept, and the "Python side" columns include that evaluation (its
+stand-in returns piece 0, a step taken).
 
 Not a test: timings on a shared machine are noisy
 (read the load average printed first; the minimum over rounds is the figure least affected).
@@ -73,7 +79,7 @@ COLS = ("general", "fast", "entry", "entry, no end evaluation", "floor", "floor 
         "Python side, general", "Python side, fast")
 
 
-def bench(deck: Path, calls: int, rounds: int, dt: float, with_moordyn: bool) -> dict:
+def bench(deck: Path, calls: int, rounds: int, dt: float, with_moordyn: bool, loads_at: str = "end") -> dict:
     md = None
     if with_moordyn:
         try:
@@ -81,13 +87,13 @@ def bench(deck: Path, calls: int, rounds: int, dt: float, with_moordyn: bool) ->
         except ImportError:
             md = None
     with moordyn_copy(deck) if md else contextlib.nullcontext():
-        return _bench(deck, calls, rounds, dt, md)
+        return _bench(deck, calls, rounds, dt, md, loads_at)
 
 
-def _bench(deck: Path, calls: int, rounds: int, dt: float, md) -> dict:
+def _bench(deck: Path, calls: int, rounds: int, dt: float, md, loads_at: str) -> dict:
     systems = {}
     for name in COLS:
-        s = System.from_file(deck)
+        s = System.from_file(deck, loads_at=loads_at)
         s.init()
         s.warm_up()
         systems[name] = s
@@ -165,14 +171,15 @@ def main(argv=None):
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--dt", type=float, default=0.01)
     ap.add_argument("--no-moordyn", action="store_true", help="leave MoorDyn out")
+    ap.add_argument("--loads-at", default="end", choices=("end", "last_stage"))
     a = ap.parse_args(argv)
     print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f}; {a.rounds} rounds of {a.calls} calls, "
-          f"dt {a.dt} s; per call [us], minimum over rounds (median)")
+          f"dt {a.dt} s, loads_at {a.loads_at}; per call [us], minimum over rounds (median)")
     cols = COLS + (() if a.no_moordyn else ("MoorDyn",))
     print("| deck | nodes | scheme | dtM [s] | " + " | ".join(cols) + " | entry - floor | end evaluation |")
     print("|---|---:|---|---:|" + "---:|" * (len(cols) + 2))
     for deck in a.decks or DECKS:
-        r = bench(deck, a.calls, a.rounds, a.dt, not a.no_moordyn)
+        r = bench(deck, a.calls, a.rounds, a.dt, not a.no_moordyn, a.loads_at)
         m, md = r["min"], r["median"]
         cells = [f"{m[c]:.2f} ({md[c]:.2f})" if c in m else "-" for c in cols]
         extra = [m["entry"] - m["floor"], m["floor + end evaluation"] - m["floor"]]

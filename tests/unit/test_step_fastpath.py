@@ -8,8 +8,8 @@ drives two systems built alike through the same calls: ``ref`` through ``_step_g
 tolerance: the two paths must run the same arithmetic), with each event that replaces or changes
 what the plan holds in between: the layout's arrays or ``work`` replaced, failures added, pending,
 fired, a line broken, ``set_state``, a checkpoint load, ``advance_to`` on another trajectory,
-changes of ``dt``, ``dtM`` and ``loads_at``, inputs of other types and sizes. Not timed (the
-cost of a call is in benchmarks/bench_step_call.py).
+changes of ``dt``, ``dtM`` and ``loads_at`` (both of whose values have a fast path), inputs of
+other types and sizes. Not timed (the cost of a call is in benchmarks/bench_step_call.py).
 """
 
 from __future__ import annotations
@@ -53,6 +53,11 @@ def _same(ref: System, sys_: System, fr, fs, what: str) -> None:
     assert np.array_equal(fr, fs), f"{what}: forces differ"
     assert np.array_equal(ref.y, sys_.y), f"{what}: state differs"
     assert ref.t == sys_.t, f"{what}: time differs"
+    # and everything the views and outputs read (tensions, node forces, curvatures, ...)
+    for name in ref.work._fields:
+        a, b = getattr(ref.work, name), getattr(sys_.work, name)
+        if isinstance(a, np.ndarray):
+            assert np.array_equal(a, b, equal_nan=True), f"{what}: Work.{name} differs"
 
 
 def _both(ref: System, sys_: System, x, xd, t, dt, what: str, out_ref=None, out_sys=None):
@@ -166,17 +171,31 @@ def test_replaced_arrays_make_the_plan_again(monkeypatch):
     assert sys_._plan is not p4 and sys_._plan.fn is not None and sys_._plan.work is sys_.work
 
 
-def test_loads_at_last_stage_and_other_modes_take_the_general_path():
-    ref, sys_ = _pair()
-    t = _run(ref, sys_, 0, 5, 0.0)
-    for s in (ref, sys_):
-        s.loads_at = "last_stage"
-    t = _run(ref, sys_, 5, 5, t, "last_stage")
-    assert sys_._plan.fn is None
+def test_loads_at_last_stage_and_the_modes_without_a_fast_path():
+    ref, sys_ = _pair(loads_at="last_stage")  # MoorDyn's convention (and moorline.moordyn's)
+    t = _run(ref, sys_, 0, 30, 0.0, "last_stage")
+    p = sys_._plan
+    assert p.fn is not None and p.keep is not None and p.tail[-1] is False
+    # the loads are the last stage's, the positions those reached: not those of an evaluation there
+    end = System.from_file(EXAMPLE)
+    end.init()
+    te = 0.0
+    for k in range(30):
+        end.step(*_x(end, k), te, DT)
+        te += DT  # (as _run counts time)
+    assert np.array_equal(end.y, sys_.y) and not np.array_equal(end.work.T, sys_.work.T)
+    # a step too short to take one: no stage, the loads of the evaluation at the state
+    _both(ref, sys_, *_x(ref, 30), t, 1e-14, "no step taken")
+    t += 1e-14
+    # loads_at changed on a running system: the plan follows
     for s in (ref, sys_):
         s.loads_at = "end"
-    _run(ref, sys_, 10, 5, t, "end again")
-    assert sys_._plan.fn is not None
+    t = _run(ref, sys_, 31, 5, t, "end")
+    assert sys_._plan is not p and sys_._plan.keep is None and sys_._plan.tail[-1] is True
+    for s in (ref, sys_):
+        s.loads_at = "last_stage"
+    _run(ref, sys_, 36, 5, t, "last_stage again")
+    assert sys_._plan.keep is not None
     # the implicit scheme and quasi-static lines: no plan (nothing compiled to find that out)
     assert make_plan(System.from_file(EXAMPLE, scheme="GenAlpha")).fn is None
     qs = System.from_file(EXAMPLE)
@@ -361,3 +380,32 @@ def test_force_gather_matches_the_loop():
     assert np.array_equal(only_points(np.empty(6)), np.concatenate([w.pF[2], w.pF[1]]))
     with pytest.raises(ValueError, match="consecutive"):
         ForceGather([("point", 0, 3, 0), ("body", 0, 6, 3), ("point", 1, 3, 9)], w, 12)
+
+
+VIV = Path(__file__).resolve().parents[3] / "shared" / "public_decks" / "FloatingArrayDesign+MoorDyn" / "tests" / \
+    "Mooring" / "viv" / "viv.txt"
+
+
+def test_last_stage_with_viv_keeps_the_remembered_accelerations():
+    """MoorDyn's viv.txt (a riser in a current with VIV, RK4 at 0.1 ms): with loads_at='last_stage'
+    the evaluation at the state reached must leave VIV's remembered accelerations and the line
+    states' history as the step left them, as the general path does."""
+    if not VIV.is_file():
+        pytest.skip(f"public deck {VIV} not available")
+    from moorline.io import read_deck
+
+    pair = []
+    for _ in range(2):
+        model = read_deck(VIV)
+        model.options.TmaxIC = 0.0
+        s = System(model, loads_at="last_stage")
+        s.init()
+        pair.append(s)
+    ref, sys_ = pair
+    assert sys_.work.features.line_states and np.any(sys_.layout.lines.viv[:, 0] > 0)
+    x = ref.deck_coupled_positions() if ref.n_coupled_dof else None
+    t = 0.0
+    for k in range(6):
+        _both(ref, sys_, x, None, t, DT, f"viv call {k}")
+        t += DT
+    assert sys_._plan.fn is not None and sys_._plan.viv_acc is not None

@@ -419,11 +419,24 @@ class System:
                 tk[0] = t
                 tk[1] = t_end = t + dt
                 self._motion = p.motion
-                self.t, bad, _, _ = p.fn(*p.head, t, t_end, *p.tail)
+                self.t, bad, _, piece = p.fn(*p.head, t, t_end, *p.tail)
                 if bad >= 0:
                     raise self._instability(self.t, int(bad), "")
                 if not self._grid_warned and p.bed_ctl[2] > 0:
                     self._check_grid()
+                if p.keep is not None:  # loads_at='last_stage': _advance_interval's evaluation, see stepplan
+                    if piece >= 0:
+                        for a, b in p.keep:
+                            b[...] = a
+                    xs_ctl = p.xs_ctl
+                    hist = xs_ctl[XC_HIST]
+                    xs_ctl[XC_HIST] = 0.0
+                    if p.viv_acc is not None:
+                        p.viv_acc[1][...] = p.viv_acc[0]
+                    p.rhs(self.t, *p.rhs_y, *(p.rhs_tail if piece >= 0 else p.rhs_tail_w), piece)
+                    xs_ctl[XC_HIST] = hist
+                    if p.viv_acc is not None:
+                        p.viv_acc[0][...] = p.viv_acc[1]
                 if out is None:
                     out = np.empty(p.shape)
                 if p.take is None:

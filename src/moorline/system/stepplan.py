@@ -23,10 +23,19 @@ replaces the failure list), ``init``, and ``_kernel_arrays`` when it gives ``wor
 State written in place (``set_state``, ``set_rod_state``, a checkpoint's arrays, ``advance_to`` on
 another trajectory) leaves the plan valid: the arrays it holds are the ones written.
 
+With ``loads_at='last_stage'`` (MoorDyn's convention, and that of :mod:`moorline.moordyn`) the
+call is followed, as in the general path, by an evaluation at the state reached with the last
+stage's loads kept over it: the general path copies the 11 stage fields out of ``work``, evaluates
+and copies them back; here the evaluation writes them into a second Work sharing every other
+array (the stage fields copied into it first, so the evaluation starts from the same values),
+through a kept entry point of ``rhs``. Same arithmetic, 11 copies instead of 22. Whether a line
+has VIV (whose remembered accelerations the evaluation must not move) is read from the layout
+once, when the plan is made: the layout's arrays are the model's data, fixed when it is built.
+
 The plan does not apply, and ``step`` takes the general path, while a failure is pending (failure
 times and loads are checked between compiled intervals), with quasi-static lines, with the
-implicit GenAlpha scheme, with ``loads_at='last_stage'``, for ``dt`` below 1e-300 s (``dt <= 0``
-only evaluates the loads), and for an ``out`` that is not a float64 array of n_coupled_dof values.
+implicit GenAlpha scheme, for ``dt`` below 1e-300 s (``dt <= 0`` only evaluates the loads), and
+for an ``out`` that is not a float64 array of n_coupled_dof values.
 """
 
 from __future__ import annotations
@@ -37,6 +46,7 @@ import numpy as np
 
 from ..core.integrate import Scheme, advance
 from ..core.jit import compile_for
+from ..core.rhs import rhs
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -92,8 +102,8 @@ class StepPlan:
     it was when the plan was made (the plan still records what it was made for, so that it is made
     again only when that changes)."""
 
-    __slots__ = ("fn", "head", "tail", "cx", "cxd", "tk", "shape", "deck_x", "gather", "take", "idx", "bed_ctl",
-                 "motion",
+    __slots__ = ("fn", "head", "tail", "cx", "cxd", "tk", "shape", "deck_x", "gather", "take", "idx", "keep",
+                 "rhs", "rhs_y", "rhs_tail", "rhs_tail_w", "xs_ctl", "viv_acc", "bed_ctl", "motion",
                  "layout", "L", "R", "P", "E", "B", "F", "work", "fwork", "y", "S", "sp", "dtM", "scheme",
                  "loads_at", "failures", "n_failures")
 
@@ -112,11 +122,12 @@ def make_plan(s: System) -> StepPlan:
     p = StepPlan()
     p.fn = None
     mo = s._step_motion
-    applies = (s._qsm is None and s.scheme != Scheme.GENALPHA and s.loads_at == "end"
+    applies = (s._qsm is None and s.scheme != Scheme.GENALPHA and s.loads_at in ("end", "last_stage")
                and not any(ev.pending for ev in s.failures))
+    last_stage = s.loads_at == "last_stage"
     if applies:
         kernel, args = s._advance_call(mo, s.t)  # (first: it may give ``work`` new features)
-        if kernel is advance and args[11] is mo and args[-1] is True:
+        if kernel is advance and args[11] is mo and args[-1] is (not last_stage):
             fn = compile_for(kernel, args)
             if callable(fn):
                 p.fn = fn
@@ -134,6 +145,29 @@ def make_plan(s: System) -> StepPlan:
     n = lay.n_coupled_dof
     p.shape = (n,)
     p.deck_x = s._deck_x
+    p.keep = p.rhs = None
+    if p.fn is not None and last_stage:
+        # the evaluation at the state reached writes its loads into a second Work that shares every
+        # array with ``work`` but the stage fields: ``work`` keeps the last stage's loads and gets
+        # the rest (positions, velocities, accelerations, ...) of the state reached, as the general
+        # path's copy, evaluation and copy back leave it. The second Work's stage fields are set to
+        # the first's before each evaluation, so that it starts from the same values.
+        W = s.work
+        W2 = W._replace(**{f: np.empty_like(getattr(W, f)) for f in s._STAGE_FIELDS})
+        p.keep = tuple((getattr(W, f), getattr(W2, f)) for f in s._STAGE_FIELDS)
+        L = lay.lines
+        rhs_args = (s.t, s.y, s._dy_eval, L, lay.rigid, lay.points, lay.env, lay.seabed, mo, W2, lay.fl, s.fwork,
+                    1.0, -1)
+        fn = compile_for(rhs, rhs_args)
+        if callable(fn):
+            p.rhs = fn
+            p.rhs_y = (s.y, s._dy_eval)
+            p.rhs_tail = rhs_args[3:-1]  # (L, R, P, E, B, motion, W2, F, FW, 1.0)
+            p.rhs_tail_w = rhs_args[3:9] + (W,) + rhs_args[10:-1]  # the same with ``work`` itself
+            p.xs_ctl = L.xs_ctl
+            p.viv_acc = (W.acc, np.empty_like(W.acc)) if bool(np.any(L.viv[:, 0] > 0)) else None
+        else:
+            p.fn = None
     p.gather = g = ForceGather(s.coupled_slots, s.work, n)
     # one kind of coupled object (the usual case): step() calls its take itself
     p.take, p.idx = (g.segments[0][0].take, g.segments[0][1]) if g.whole else (None, None)
