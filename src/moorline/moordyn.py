@@ -209,15 +209,16 @@ def Step(instance: MoorDyn, x, v, t, dt) -> tuple:
         s.step(None, None, float(t), float(dt))
         return ()
     v = np.asarray(v, dtype=float).ravel()
-    f = s.step(list(x), v, float(t), float(dt))
+    f = s.step(np.asarray(x, dtype=float), v, float(t), float(dt))
     if dt > 0:
-        a = (v - instance.xd_prev) / float(dt)
-        for kind, i, k, o in s.coupled_slots:
-            if kind != "point":
+        rigid = [slot for slot in s.coupled_slots if slot[0] != "point"]
+        if rigid:
+            a = (v - instance.xd_prev) / float(dt)
+            for kind, i, k, o in rigid:
                 M6 = s.work.b6M if kind == "body" else s.work.rod6M
                 f[o:o + k] -= M6[i][:k, :k] @ a[o:o + k]
         instance.xd_prev = v
-    return _t(f)
+    return tuple(f.tolist())  # (Python floats, as _t gives, without a generator per value)
 
 
 def Close(instance: MoorDyn) -> int:
