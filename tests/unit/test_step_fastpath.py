@@ -196,8 +196,7 @@ def test_loads_at_last_stage_and_the_modes_without_a_fast_path():
         s.loads_at = "last_stage"
     _run(ref, sys_, 36, 5, t, "last_stage again")
     assert sys_._plan.keep is not None
-    # the implicit scheme and quasi-static lines: no plan (nothing compiled to find that out)
-    assert make_plan(System.from_file(EXAMPLE, scheme="GenAlpha")).fn is None
+    # quasi-static lines: no plan (nothing compiled to find that out)
     qs = System.from_file(EXAMPLE)
     qs._qsm = object()  # (what mooring="quasistatic" sets; this deck has no line left dynamic for that mode)
     assert make_plan(qs).fn is None
@@ -409,3 +408,36 @@ def test_last_stage_with_viv_keeps_the_remembered_accelerations():
         _both(ref, sys_, x, None, t, DT, f"viv call {k}")
         t += DT
     assert sys_._plan.fn is not None and sys_._plan.viv_acc is not None
+
+
+@pytest.mark.parametrize("loads_at", ["end", "last_stage"])
+def test_genalpha(loads_at):
+    """The implicit scheme (one generalized-alpha step per call at dtM 0.1 s, steps cut where
+    Newton struggles): its own kept call, the solver's structure held and checked."""
+    ref, sys_ = _pair(scheme="GenAlpha", dtM=0.1, loads_at=loads_at)
+    t = _run(ref, sys_, 0, 40, 0.0, "GenAlpha")
+    p = sys_._plan
+    assert p.fn is not None and p.implicit and p.keep is None and p.imp is sys_._imp
+    # the solver's work replaced (a line failure does this, rebuilding it on its next use)
+    for s in (ref, sys_):
+        s._imp = None
+    _run(ref, sys_, 40, 10, t, "GenAlpha, solver rebuilt")
+    assert sys_._plan is not p and sys_._plan.imp is sys_._imp is not None
+    assert ref.solver_stats == sys_.solver_stats
+
+
+def test_genalpha_failure_raises_the_same_error():
+    """A fairlead thrown at 1e5 m/s: the implicit step gives up (the speed limit or Newton), with the
+    same error through both paths."""
+    ref, sys_ = _pair(scheme="GenAlpha", dtM=0.1)
+    t = _run(ref, sys_, 0, 3, 0.0)
+    x, xd = _x(ref, 3)
+    xd = xd + np.tile([1e5, 0.0, 0.0], 3)
+    errs = []
+    for path in (lambda: ref._step_general(x, xd, t, DT, None), lambda: sys_.step(x, xd, t, DT)):
+        with pytest.raises(SimulationError) as e:
+            path()
+        errs.append(str(e.value))
+    assert errs[0] == errs[1], errs
+    assert sys_._plan.fn is not None and sys_._plan.implicit
+    assert ref.t == sys_.t and np.array_equal(ref.y, sys_.y, equal_nan=True)

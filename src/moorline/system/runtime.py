@@ -419,8 +419,13 @@ class System:
                 tk[0] = t
                 tk[1] = t_end = t + dt
                 self._motion = p.motion
-                self.t, bad, _, piece = p.fn(*p.head, t, t_end, *p.tail)
-                if bad >= 0:
+                self.t, bad, row, piece = p.fn(*p.head, t, t_end, *p.tail)
+                if p.implicit:  # (status, row): 1 unstable, 2 Newton failed, as in _advance_interval
+                    if bad == 1:
+                        raise self._instability(self.t, int(row), "")
+                    if bad == 2:
+                        raise self._newton_failure(self.t, int(row))
+                elif bad >= 0:
                     raise self._instability(self.t, int(bad), "")
                 if not self._grid_warned and p.bed_ctl[2] > 0:
                     self._check_grid()

@@ -15,11 +15,12 @@ It is built on the first ``step`` after :meth:`System.init` and whenever a guard
 replaced. It holds (and :meth:`StepPlan.current` checks by identity on every call) the system's
 ``layout`` and each of its kernel arrays (lines, rigid, points, env, seabed, fl), ``work`` (a new
 feature set replaces it, see :mod:`moorline.core.features`), ``fwork``, the state ``y``, the scheme's
-carried derivatives ``_S`` and parameters ``scheme_params``, ``dtM``, ``scheme``, ``loads_at`` and the
-``failures`` list with its length. The paths inside moorline that replace any of these also drop the
-plan explicitly (:meth:`System._drop_step_plan`): a line failure (``failures.fire``, which rebuilds the
-layout, state and Work arrays), ``add_failure``, a checkpoint load (which replays failures and
-replaces the failure list), ``init``, and ``_kernel_arrays`` when it gives ``work`` new features.
+carried derivatives ``_S`` and parameters ``scheme_params``, ``dtM``, ``scheme``, ``loads_at``, the
+implicit solver's ``_imp`` and the ``failures`` list with its length. The paths inside moorline that
+replace any of these also drop the plan explicitly (:meth:`System._drop_step_plan`): a line failure
+(``failures.fire``, which rebuilds the layout, state and Work arrays), ``add_failure``, a checkpoint
+load (which replays failures and replaces the failure list), ``init``, and ``_kernel_arrays`` when it
+gives ``work`` new features.
 State written in place (``set_state``, ``set_rod_state``, a checkpoint's arrays, ``advance_to`` on
 another trajectory) leaves the plan valid: the arrays it holds are the ones written.
 
@@ -32,10 +33,13 @@ through a kept entry point of ``rhs``. Same arithmetic, 11 copies instead of 22.
 has VIV (whose remembered accelerations the evaluation must not move) is read from the layout
 once, when the plan is made: the layout's arrays are the model's data, fixed when it is built.
 
+With the implicit GenAlpha scheme the kept call is that of ``core.implicit.advance_implicit``,
+and the plan also holds (and checks) the implicit solver's structure and work, ``_imp``.
+
 The plan does not apply, and ``step`` takes the general path, while a failure is pending (failure
-times and loads are checked between compiled intervals), with quasi-static lines, with the
-implicit GenAlpha scheme, for ``dt`` below 1e-300 s (``dt <= 0`` only evaluates the loads), and
-for an ``out`` that is not a float64 array of n_coupled_dof values.
+times and loads are checked between compiled intervals), with quasi-static lines, for ``dt`` below
+1e-300 s (``dt <= 0`` only evaluates the loads), and for an ``out`` that is not a float64 array of
+n_coupled_dof values.
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.implicit import advance_implicit
 from ..core.integrate import Scheme, advance
 from ..core.jit import compile_for
 from ..core.rhs import rhs
@@ -103,7 +108,8 @@ class StepPlan:
     again only when that changes)."""
 
     __slots__ = ("fn", "head", "tail", "cx", "cxd", "tk", "shape", "deck_x", "gather", "take", "idx", "keep",
-                 "rhs", "rhs_y", "rhs_tail", "rhs_tail_w", "xs_ctl", "viv_acc", "bed_ctl", "motion",
+                 "rhs", "rhs_y", "rhs_tail", "rhs_tail_w", "xs_ctl", "viv_acc", "bed_ctl", "motion", "implicit",
+                 "imp",
                  "layout", "L", "R", "P", "E", "B", "F", "work", "fwork", "y", "S", "sp", "dtM", "scheme",
                  "loads_at", "failures", "n_failures")
 
@@ -112,7 +118,8 @@ class StepPlan:
         lay = s.layout
         return (lay is self.layout and s.work is self.work and s.y is self.y and s._S is self.S
                 and s.fwork is self.fwork and s.scheme_params is self.sp and s.dtM is self.dtM
-                and s.scheme is self.scheme and s.loads_at is self.loads_at and s.failures is self.failures
+                and s.scheme is self.scheme and s.loads_at is self.loads_at and s._imp is self.imp
+                and s.failures is self.failures
                 and len(s.failures) == self.n_failures and lay.lines is self.L and lay.rigid is self.R
                 and lay.points is self.P and lay.env is self.E and lay.seabed is self.B and lay.fl is self.F)
 
@@ -122,12 +129,14 @@ def make_plan(s: System) -> StepPlan:
     p = StepPlan()
     p.fn = None
     mo = s._step_motion
-    applies = (s._qsm is None and s.scheme != Scheme.GENALPHA and s.loads_at in ("end", "last_stage")
-               and not any(ev.pending for ev in s.failures))
-    last_stage = s.loads_at == "last_stage"
+    applies = (s._qsm is None and s.loads_at in ("end", "last_stage") and not any(ev.pending for ev in s.failures))
+    p.implicit = s.scheme == Scheme.GENALPHA
+    # (the implicit steps report the loads at the state reached whatever loads_at says)
+    last_stage = s.loads_at == "last_stage" and not p.implicit
     if applies:
         kernel, args = s._advance_call(mo, s.t)  # (first: it may give ``work`` new features)
-        if kernel is advance and args[11] is mo and args[-1] is (not last_stage):
+        if (kernel is (advance_implicit if p.implicit else advance) and args[11] is mo
+                and args[-1] is (not last_stage)):
             fn = compile_for(kernel, args)
             if callable(fn):
                 p.fn = fn
@@ -136,7 +145,7 @@ def make_plan(s: System) -> StepPlan:
     lay = s.layout
     p.layout, p.L, p.R, p.P, p.E, p.B, p.F = lay, lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, lay.fl
     p.work, p.fwork, p.y, p.S, p.sp = s.work, s.fwork, s.y, s._S, s.scheme_params
-    p.dtM, p.scheme, p.loads_at = s.dtM, s.scheme, s.loads_at
+    p.dtM, p.scheme, p.loads_at, p.imp = s.dtM, s.scheme, s.loads_at, s._imp
     p.failures, p.n_failures = s.failures, len(s.failures)
     p.motion = mo
     p.cx = mo.c[0, :, 0]
