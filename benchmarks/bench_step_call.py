@@ -2,7 +2,7 @@
 general path, and both against the compiled entry point called directly.
 
     python benchmarks/bench_step_call.py [--calls 2000] [--rounds 7] [--dt 0.01] [--no-moordyn]
-                                         [--loads-at end|last_stage] [DECK ...]
+                                         [--loads-at end|last_stage] [--scheme S --dtM DT] [DECK ...]
 
 Default decks: MoorDyn's WD0050_Chain and bench no_waves (../shared/public_decks) and the README
 example (examples/catenary_3line). For each deck, four systems are built from it, initialised
@@ -79,7 +79,8 @@ COLS = ("general", "fast", "entry", "entry, no end evaluation", "floor", "floor 
         "Python side, general", "Python side, fast")
 
 
-def bench(deck: Path, calls: int, rounds: int, dt: float, with_moordyn: bool, loads_at: str = "end") -> dict:
+def bench(deck: Path, calls: int, rounds: int, dt: float, with_moordyn: bool, loads_at: str = "end",
+          scheme: str | None = None, dtM: float | None = None) -> dict:
     md = None
     if with_moordyn:
         try:
@@ -87,13 +88,13 @@ def bench(deck: Path, calls: int, rounds: int, dt: float, with_moordyn: bool, lo
         except ImportError:
             md = None
     with moordyn_copy(deck) if md else contextlib.nullcontext():
-        return _bench(deck, calls, rounds, dt, md, loads_at)
+        return _bench(deck, calls, rounds, dt, md, loads_at, scheme, dtM)
 
 
-def _bench(deck: Path, calls: int, rounds: int, dt: float, md, loads_at: str) -> dict:
+def _bench(deck: Path, calls: int, rounds: int, dt: float, md, loads_at: str, scheme, dtM) -> dict:
     systems = {}
     for name in COLS:
-        s = System.from_file(deck, loads_at=loads_at)
+        s = System.from_file(deck, loads_at=loads_at, scheme=scheme, dtM=dtM)
         s.init()
         s.warm_up()
         systems[name] = s
@@ -172,6 +173,8 @@ def main(argv=None):
     ap.add_argument("--dt", type=float, default=0.01)
     ap.add_argument("--no-moordyn", action="store_true", help="leave MoorDyn out")
     ap.add_argument("--loads-at", default="end", choices=("end", "last_stage"))
+    ap.add_argument("--scheme", default=None, help="moorline's scheme instead of the deck's (not MoorDyn's)")
+    ap.add_argument("--dtM", type=float, default=None, help="moorline's time step instead of the deck's")
     a = ap.parse_args(argv)
     print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f}; {a.rounds} rounds of {a.calls} calls, "
           f"dt {a.dt} s, loads_at {a.loads_at}; per call [us], minimum over rounds (median)")
@@ -179,7 +182,7 @@ def main(argv=None):
     print("| deck | nodes | scheme | dtM [s] | " + " | ".join(cols) + " | entry - floor | end evaluation |")
     print("|---|---:|---|---:|" + "---:|" * (len(cols) + 2))
     for deck in a.decks or DECKS:
-        r = bench(deck, a.calls, a.rounds, a.dt, not a.no_moordyn, a.loads_at)
+        r = bench(deck, a.calls, a.rounds, a.dt, not a.no_moordyn, a.loads_at, a.scheme, a.dtM)
         m, md = r["min"], r["median"]
         cells = [f"{m[c]:.2f} ({md[c]:.2f})" if c in m else "-" for c in cols]
         extra = [m["entry"] - m["floor"], m["floor + end evaluation"] - m["floor"]]
