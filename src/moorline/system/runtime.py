@@ -391,6 +391,11 @@ class System:
         nothing is integrated and the current forces are returned. ``out``: a float array of
         n_coupled_dof values the forces are written into (and returned), for hosts that call
         this thousands of times: the call then allocates nothing.
+
+        The compiled call, its arguments and the force gather are kept between calls and made
+        again only when something they hold is replaced (:mod:`moorline.system.stepplan`); while
+        a failure is pending, with quasi-static lines, ``dt <= 0`` or an ``out`` of another shape
+        or type, the call takes the general path. The results are the same bit for bit.
         """
         if not self.initialized:
             raise RuntimeError("call init() before step()")
