@@ -99,6 +99,11 @@ def test_fast_path_bitwise_over_many_calls_and_inputs():
     _both(ref, sys_, x, xd, t, DT, "out of 12 values", big_r, big_s)
     assert np.array_equal(big_r, big_s) and big_s[-1] == 7.0
     t += DT
+    # a strided view of 9 values is an out of the fast path's kind (take writes through a copy)
+    wide_r, wide_s = np.full(18, 7.0), np.full(18, 7.0)
+    fs = _both(ref, sys_, x, xd, t, DT, "strided out", wide_r[::2], wide_s[::2])
+    assert np.array_equal(wide_r, wide_s) and np.all(wide_s[1::2] == 7.0) and fs.base is wide_s
+    t += DT
     # other steps: longer, shorter, not a multiple of dtM, zero (evaluation only), negative
     for dt in (0.013, 0.002, 0.0005, 0.05, 0.0, -1.0, 1e-310, DT):
         fr = ref._step_general(x, xd, t, dt, None)
@@ -247,12 +252,16 @@ def test_failures_pending_fired_and_broken_lines():
     ref, sys_ = _pair()
     t = _run(ref, sys_, 0, 10, 0.0)
     assert sys_._plan.fn is not None
-    # a failure at the fairlead of line 1 inside the step from 0.15 to 0.16: pending, the general path
+    # a failure at the fairlead of line 1 inside the step from 0.15 to 0.16: pending on a time, so
+    # the calls before it keep the fast path, and the one it happens in is the general path's
     for s in (ref, sys_):
         s.add_failure(4, [0], time=0.155)
     assert sys_._plan is None
     t = _run(ref, sys_, 10, 5, t, "pending")
-    assert sys_._plan.fn is None
+    p = sys_._plan
+    assert p.fn is not None and len(p.pending) == 1
+    assert not sys_._none_due(p, t, DT) and sys_._none_due(p, t - DT, DT)
+    assert not sys_._none_due(p, 0.0, 1e-13)  # (no step taken: _advance would not call the loop at all)
     t = _run(ref, sys_, 15, 2, t, "fired")
     assert [ev.pending for ev in sys_.failures] == [False]
     assert len(sys_.points) == 7 and sys_._plan.layout is sys_.layout

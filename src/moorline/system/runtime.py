@@ -406,7 +406,7 @@ class System:
             t = float(t)
             dt = float(dt)
             if dt >= 1e-300 and (out is None or (type(out) is np.ndarray and out.shape == p.shape
-                                                 and out.dtype is F8)):
+                                                 and out.dtype is F8)) and (not p.pending or self._none_due(p, t, dt)):
                 # the fast path (system.stepplan): the general path's arithmetic with the kept call
                 if x is None:
                     p.cx[...] = p.deck_x
@@ -454,6 +454,16 @@ class System:
                 p.take(p.idx, out=out, mode="clip")  # (one kind of coupled object: one take)
                 return out
         return self._step_general(x, xd, t, dt, out)
+
+    def _none_due(self, p, t: float, dt: float) -> bool:
+        """No pending failure (of the plan's, all on a time alone) is due in the step from ``t`` to
+        ``t + dt`` by _advance's test, and that step takes one: _advance then does what the
+        plain time loop does."""
+        t_end = t + dt
+        tol = 1e-9 * self.dtM
+        if not t_end - t > tol:
+            return False
+        return all(ev.pending and ev.failure.time > t_end + tol for ev in p.pending)
 
     def _step_general(self, x, xd, t, dt, out) -> np.ndarray:
         """:meth:`step` where its fast path does not apply (every case; see :mod:`.stepplan`)."""

@@ -36,14 +36,17 @@ once, when the plan is made: the layout's arrays are the model's data, fixed whe
 With the implicit GenAlpha scheme the kept call is that of ``core.implicit.advance_implicit``,
 and the plan also holds (and checks) the implicit solver's structure and work, ``_imp``.
 
-The plan does not apply, and ``step`` takes the general path, while a failure is pending (failure
-times and loads are checked between compiled intervals), with quasi-static lines, for ``dt`` below
-1e-300 s (``dt <= 0`` only evaluates the loads), and for an ``out`` that is not a float64 array of
-n_coupled_dof values.
+The plan does not apply, and ``step`` takes the general path, while a failure triggered by a
+load is pending (loads are checked between compiled intervals), with quasi-static lines, for
+``dt`` below 1e-300 s (``dt <= 0`` only evaluates the loads), and for an ``out`` that is not a
+float64 array of n_coupled_dof values. Failures pending on a time alone leave the fast path to
+the calls that end more than the general path's tolerance (1e-9 dtM) before the earliest of
+them and take a step; the call in which one happens is the general path's, which stops there.
 """
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -109,7 +112,7 @@ class StepPlan:
 
     __slots__ = ("fn", "head", "tail", "cx", "cxd", "tk", "shape", "deck_x", "gather", "take", "idx", "keep",
                  "rhs", "rhs_y", "rhs_tail", "rhs_tail_w", "xs_ctl", "viv_acc", "bed_ctl", "motion", "implicit",
-                 "imp",
+                 "imp", "pending",
                  "layout", "L", "R", "P", "E", "B", "F", "work", "fwork", "y", "S", "sp", "dtM", "scheme",
                  "loads_at", "failures", "n_failures")
 
@@ -129,7 +132,10 @@ def make_plan(s: System) -> StepPlan:
     p = StepPlan()
     p.fn = None
     mo = s._step_motion
-    applies = (s._qsm is None and s.loads_at in ("end", "last_stage") and not any(ev.pending for ev in s.failures))
+    # failures pending on a time only: the fast path serves the calls that end before it (checked per call)
+    p.pending = tuple(ev for ev in s.failures if ev.pending)
+    applies = (s._qsm is None and s.loads_at in ("end", "last_stage")
+               and not any(math.isfinite(ev.failure.tension) for ev in p.pending))
     p.implicit = s.scheme == Scheme.GENALPHA
     # (the implicit steps report the loads at the state reached whatever loads_at says)
     last_stage = s.loads_at == "last_stage" and not p.implicit
