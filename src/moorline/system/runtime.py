@@ -393,9 +393,10 @@ class System:
         this thousands of times: the call then allocates nothing.
 
         The compiled call, its arguments and the force gather are kept between calls and made
-        again only when something they hold is replaced (:mod:`moorline.system.stepplan`); while
-        a failure is pending, with quasi-static lines, ``dt <= 0`` or an ``out`` of another shape
-        or type, the call takes the general path. The results are the same bit for bit.
+        again only when something they hold is replaced (:mod:`moorline.system.stepplan`). While
+        a failure triggered by a load is pending, in the call a failure happens in, with
+        quasi-static lines, ``dt <= 0`` or an ``out`` of another shape or type, the call takes the
+        general path. The results are the same bit for bit.
         """
         if not self.initialized:
             raise RuntimeError("call init() before step()")
