@@ -67,6 +67,19 @@ def _both(ref: System, sys_: System, x, xd, t, dt, what: str, out_ref=None, out_
     return fs
 
 
+def _count_general(s: System) -> list:
+    """Count the calls of ``s.step`` that take the general path (appended to the list returned)."""
+    calls = []
+    general = s._step_general
+
+    def counted(*args):
+        calls.append(args[2])
+        return general(*args)
+
+    s._step_general = counted
+    return calls
+
+
 def _run(ref, sys_, k0, n, t0=None, what=""):
     out_r, out_s = np.empty(ref.n_coupled_dof), np.empty(sys_.n_coupled_dof)
     t = ref.t if t0 is None else t0
@@ -79,9 +92,11 @@ def _run(ref, sys_, k0, n, t0=None, what=""):
 
 def test_fast_path_bitwise_over_many_calls_and_inputs():
     ref, sys_ = _pair()
+    general = _count_general(sys_)
     t = _run(ref, sys_, 0, 150, 0.0, "surge")
     p = sys_._plan
     assert p is not None and p.fn is not None, "the fast path did not apply to a plain RK2 system"
+    assert general == [], "step() took the general path"
     # the plan was made once and kept for all those calls
     t = _run(ref, sys_, 150, 20, t, "again")
     assert sys_._plan is p
@@ -92,12 +107,14 @@ def test_fast_path_bitwise_over_many_calls_and_inputs():
     for i, (a, b) in enumerate(cases):
         _both(ref, sys_, a, b, t, DT, f"input case {i}")
         t += DT
+    assert general == []
     # out=None allocates; an out of another size or type is the general path's business
     _both(ref, sys_, x, xd, t, DT, "out None")
     t += DT
     big_r, big_s = np.full(12, 7.0), np.full(12, 7.0)
     _both(ref, sys_, x, xd, t, DT, "out of 12 values", big_r, big_s)
     assert np.array_equal(big_r, big_s) and big_s[-1] == 7.0
+    assert len(general) == 1
     t += DT
     # a strided view of 9 values is an out of the fast path's kind (take writes through a copy)
     wide_r, wide_s = np.full(18, 7.0), np.full(18, 7.0)
@@ -111,6 +128,7 @@ def test_fast_path_bitwise_over_many_calls_and_inputs():
         _same(ref, sys_, fr, fs, f"dt {dt}")
         t += max(dt, 0.0)
     assert sys_._plan is p  # none of this replaced what the plan holds
+    assert len(general) == 1 + 3  # (dt 0, -1 and 1e-310)
 
 
 def test_wrong_sizes_raise_the_same_error():
@@ -178,7 +196,9 @@ def test_replaced_arrays_make_the_plan_again(monkeypatch):
 
 def test_loads_at_last_stage_and_the_modes_without_a_fast_path():
     ref, sys_ = _pair(loads_at="last_stage")  # MoorDyn's convention (and moorline.moordyn's)
+    general = _count_general(sys_)
     t = _run(ref, sys_, 0, 30, 0.0, "last_stage")
+    assert general == []
     p = sys_._plan
     assert p.fn is not None and p.keep is not None and p.tail[-1] is False
     # the loads are the last stage's, the positions those reached: not those of an evaluation there
@@ -257,12 +277,15 @@ def test_failures_pending_fired_and_broken_lines():
     for s in (ref, sys_):
         s.add_failure(4, [0], time=0.155)
     assert sys_._plan is None
+    general = _count_general(sys_)
     t = _run(ref, sys_, 10, 5, t, "pending")
+    assert general == []
     p = sys_._plan
     assert p.fn is not None and len(p.pending) == 1
     assert not sys_._none_due(p, t, DT) and sys_._none_due(p, t - DT, DT)
     assert not sys_._none_due(p, 0.0, 1e-13)  # (no step taken: _advance would not call the loop at all)
     t = _run(ref, sys_, 15, 2, t, "fired")
+    assert len(general) == 1  # the call it happened in
     assert [ev.pending for ev in sys_.failures] == [False]
     assert len(sys_.points) == 7 and sys_._plan.layout is sys_.layout
     t = _run(ref, sys_, 17, 20, t, "line 1 free at its fairlead")
@@ -412,11 +435,12 @@ def test_last_stage_with_viv_keeps_the_remembered_accelerations():
     ref, sys_ = pair
     assert sys_.work.features.line_states and np.any(sys_.layout.lines.viv[:, 0] > 0)
     x = ref.deck_coupled_positions() if ref.n_coupled_dof else None
+    general = _count_general(sys_)
     t = 0.0
     for k in range(6):
         _both(ref, sys_, x, None, t, DT, f"viv call {k}")
         t += DT
-    assert sys_._plan.fn is not None and sys_._plan.viv_acc is not None
+    assert sys_._plan.fn is not None and sys_._plan.viv_acc is not None and general == []
 
 
 @pytest.mark.parametrize("loads_at", ["end", "last_stage"])
@@ -424,7 +448,9 @@ def test_genalpha(loads_at):
     """The implicit scheme (one generalized-alpha step per call at dtM 0.1 s, steps cut where
     Newton struggles): its own kept call, the solver's structure held and checked."""
     ref, sys_ = _pair(scheme="GenAlpha", dtM=0.1, loads_at=loads_at)
+    general = _count_general(sys_)
     t = _run(ref, sys_, 0, 40, 0.0, "GenAlpha")
+    assert general == []
     p = sys_._plan
     assert p.fn is not None and p.implicit and p.keep is None and p.imp is sys_._imp
     # the solver's work replaced (a line failure does this, rebuilding it on its next use)
