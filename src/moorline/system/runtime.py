@@ -61,7 +61,7 @@ from .initial import (
 from .limits import check_model
 from .moordyn_start import start_from_moordyn_state
 from .qsmooring import QuasiStaticMooring
-from .stepplan import F8, make_plan
+from .stepplan import F8, FORCE_FIELD, make_plan
 from .views import BodyView, LineView, PointView, RodView
 
 log = logging.getLogger("moorline")
@@ -262,7 +262,7 @@ class System:
         path that replaces an object it holds; the next ``step`` makes it again."""
         self._plan = None
 
-    _FORCE_FIELD = {"body": "b6F", "rod": "rod6F", "point": "pF"}  # Work arrays of the coupled loads
+    _FORCE_FIELD = FORCE_FIELD  # Work arrays of the coupled loads (one table with the fast path's gather)
 
     def _coupled_gather(self) -> list[tuple[str, int, int, int]]:
         lay = self.layout
