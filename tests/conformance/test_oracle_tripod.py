@@ -69,7 +69,9 @@ def test_unstable_in_both_codes_at_moordyns_step(tmp_path):
     # MoorDyn: smooth up to 0.30 s, then line 1 explodes (it keeps going: no check)
     assert np.max(md[:30, 3]) < 200.0 and np.max(md[:30, 4]) < 1e-5
     assert md[32, 3] > 1e6 and md[32, 4] > 0.1
-    with pytest.raises(SimulationError, match=r"unstable at t = 0\.3\d* s : line 1 node \d") as e:
+    # the first state row past the speed guard is a node of line 1 or its free end, point 2 (which
+    # of them is decided by round-off: the derivative's last bits)
+    with pytest.raises(SimulationError, match=r"unstable at t = 0\.3\d* s : (line 1 node \d|point 2)") as e:
         _moorline(deck, 34)
     assert "try dtM <=" in str(e.value)
 

@@ -183,11 +183,13 @@ def test_curvature_at_the_free_joint(runs):
 
 def test_zero_length_rod_on_the_body_pins_the_cable(runs):
     """The zero-length rod on the body follows the cable's end, although the deck gives the rod a
-    direction (end B 1 m below end A): zero curvature there in moorline, and in MoorDyn at most
+    direction (end B 1 m below end A): zero curvature there in moorline (to round-off), and in MoorDyn at most
     1e-4 1/m (its rod takes the axis a step late), against 0.42 1/m at the clamp."""
     ref, ours = runs
     assert max(r["curv"][2][0] for r in ref) < 1e-3
-    assert max(o["curv"][2][0] for o in ours) < 1e-9
+    # zero to round-off: a curvature (4 / lam) sqrt((1 - cos) / 2) from directions that agree to
+    # the last bits is ~1e-8 1/m here (1 - cos a few eps)
+    assert max(o["curv"][2][0] for o in ours) < 1e-6
     # and the cable leaves from end A, not from the end B the deck wrote
     for o, r in zip(ours, ref, strict=True):
         assert np.abs(o["pos"][2][0] - r["pos"][2][0]).max() <= TOL_POS

@@ -8,6 +8,8 @@
   (the same function compiled with numba's defaults shows the updates, so the test can tell).
 * Features: a system's kernels are compiled without the code of features it lacks (``when``), and
   with it when it has them.
+* The derivative's fast-math flags keep inf and nan as values (an unstable run is caught by its
+  non-finite state).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from numba import njit, typeof
 import moorline
 from moorline.core import features as F
 from moorline.core.features import RIGID, when
-from moorline.core.jit import KERNEL_OPTIONS
+from moorline.core.jit import KERNEL_OPTIONS, SAFE_FASTMATH
 from moorline.core.lines import line_bending
 from moorline.core.rhs import set_water
 from moorline.core.rigid import rigid_dynamics, rod_loads
@@ -78,6 +80,21 @@ def test_nrt_false_removes_reference_counting():
         "numba's default compilation no longer reference counts here: this test cannot tell the option's effect"
     assert not refcounts.search(_compiled_llvm(without_cache)), \
         "_nrt=False no longer removes the reference counting: numba changed its private option"
+
+
+def _scaled_ratio(a):
+    return a[0] * 3.0 / a[1]
+
+
+def test_derivative_fast_math_keeps_inf_and_nan():
+    assert not ({"nnan", "ninf", "afn", "fast"} & SAFE_FASTMATH)
+    f = njit(**{**KERNEL_OPTIONS, "cache": False, "fastmath": set(SAFE_FASTMATH)})(_scaled_ratio)
+    assert f(np.array([1.0, 0.0])) == np.inf
+    assert np.isnan(f(np.array([0.0, 0.0])))
+    assert np.isnan(f(np.array([np.nan, 1.0])))
+    llvm = "\n".join(f.inspect_llvm().values())
+    flags = re.findall(r"= f(?:mul|div) ((?:[a-z]+ )*)double", llvm)
+    assert flags and all("reassoc" in fl and "nnan" not in fl and "ninf" not in fl for fl in flags), flags
 
 
 @pytest.fixture

@@ -693,8 +693,12 @@ def test_rk4_bending_limit_is_real(factor, stable):
     """Run the clamped-clamped beam with RK4 at 0.95 and 1.12 times the reported limit
     2.8/omega_b, from a 1 mm random kick, for 3000 steps: below the limit (omega_max dt = 2.64)
     the motion stays at the kick's size (nothing damps the bending modes: max displacement
-    < 5 mm); above it (omega_max dt = 3.12, |R(i omega dt)| ~ 1.9 per step) the zigzag grows
-    until the speed guard raises SimulationError."""
+    < 5 mm); above it (omega_max dt = 3.12, |R(i omega dt)| ~ 1.9 per step) the zigzag grows by
+    more than 100 times the kick. Whether the growth then runs into the speed guard
+    (SimulationError) or is saturated by tension stiffening, as with RK2 below, is decided by
+    round-off: at 1.12 and 1.3 times the limit one and then the other happened with the same
+    code, and a change of the last bits of the derivative swaps them (measured: 1.1 m of
+    saturated zigzag against a 1 mm kick)."""
     N = 20
     s, wb = stab_beam(N, "RK4", 1e-4)
     limit = s.stability["dtM_limit"]
@@ -705,8 +709,12 @@ def test_rk4_bending_limit_is_real(factor, stable):
         s.advance_to(3000 * s.dtM, no_motion())
         assert np.max(np.abs(s.lines[0].node_positions() - r0)) < 5e-3
     else:
-        with pytest.raises(SimulationError):
+        try:
             s.advance_to(3000 * s.dtM, no_motion())
+            grown = np.max(np.abs(s.lines[0].node_positions() - r0))
+        except SimulationError:
+            grown = np.inf
+        assert grown > 0.1
 
 
 def test_rk2_amplifies_undamped_bending_mode():

@@ -27,8 +27,15 @@ from numba import njit, typeof
 #: options of every kernel (see the module docstring)
 KERNEL_OPTIONS = {"cache": True, "error_model": "numpy", "_nrt": False}
 
+#: LLVM fast-math flags of the kernels that evaluate the derivative (``kernel(fastmath=True)``):
+#: reassociation, contraction into fused multiply-adds, reciprocals for divisions, no signed
+#: zeros. Each changes results by round-off only. ``nnan`` and ``ninf`` are left out on purpose:
+#: an unstable run is caught by its non-finite state, so the code must keep treating inf and nan
+#: as values; ``afn`` (approximate square roots and other functions) is left out too.
+SAFE_FASTMATH = frozenset({"reassoc", "contract", "arcp", "nsz"})
 
-def kernel(fn=None, *, inline: str = "never"):
+
+def kernel(fn=None, *, inline: str = "never", fastmath: bool = False):
     """Compile ``fn`` as a moorline kernel (``@kernel`` or ``@kernel(inline="always")``).
 
     Parameters
@@ -39,6 +46,9 @@ def kernel(fn=None, *, inline: str = "never"):
         numba's IR-level inlining: ``'always'`` copies the function into each caller (no call,
         no dispatcher of its own; use it for small functions only: numba's inliner copies the
         callee's IR once per call site, at a cost that grows with its size).
+    fastmath : bool
+        Compile with :data:`SAFE_FASTMATH` (a function inlined with ``inline="always"`` takes
+        its caller's flags).
 
     Returns
     -------
@@ -47,6 +57,8 @@ def kernel(fn=None, *, inline: str = "never"):
     opts = dict(KERNEL_OPTIONS)
     if inline != "never":
         opts["inline"] = inline
+    if fastmath:
+        opts["fastmath"] = set(SAFE_FASTMATH)
     if fn is None:
         return njit(**opts)
     return njit(**opts)(fn)
