@@ -279,9 +279,14 @@ def test_lifting_snap_loads_are_chaotic(tmp_path):
     point falls 0.5 m, snaps the line taut and bounces, and the slack segments snap in ms-long
     spikes. From MoorDyn's own start the two codes follow the same path for the first 0.28 s (within
     1 % of the largest spike), then the spikes fall at different samples. So do two moorline runs
-    1 nm apart (one node moved): the sampled tension differs by tens of percent RMS (measured 47 %
-    over 4 s; 14 % for 1e-12 m) while the point's path stays within a centimetre. The sweep's 59 %
-    is this, not a model difference."""
+    1 nm apart (line node 10 moved along the line, up): the sampled tension differs by tens of
+    percent RMS (measured 83 % over 2 s, 84 % with the fast-math flags) while the point's path stays
+    within about 2 cm. The sweep's 59 % is this, not a model difference.
+
+    The nudge is along the line because that is where the snaps are: the line hangs in the plane
+    x = 0, and a sideways (x) nudge changes the segment lengths only at second order (1e-18 m for
+    1 nm), so whether it ever reaches a snap is decided by round-off (12 % without the flags, 3e-8
+    with them; a 1 um sideways nudge: 74 % and 62 %)."""
     deck = _copy(tmp_path, "lifting.txt")
     state = tmp_path / "lifting.state"
     dt, n = 0.005, 400
@@ -293,7 +298,7 @@ def test_lifting_snap_loads_are_chaotic(tmp_path):
         s.init()
         if eps:
             pos = [ln.node_positions() for ln in s.lines]
-            pos[0][10, 0] += eps
+            pos[0][10, 2] += eps
             s.set_state(line_positions=pos)
         ten, z = [s.lines[0].fairlead_tension()], [s.points[1].position()[2]]
         for k in range(n):
@@ -309,7 +314,7 @@ def test_lifting_snap_loads_are_chaotic(tmp_path):
     assert np.max(np.abs(a[:k0] - md[:k0, 0, 1])) < 0.01 * np.max(md[:k0, 0, 1])
     rms = np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(a**2))
     assert rms > 0.1  # 1 nm changes the sampled snap loads by more than 10 %
-    assert np.max(np.abs(za - zb)) < 0.02 and np.ptp(za) > 0.3  # the point's 0.5 m bounce: within 2 cm
+    assert np.max(np.abs(za - zb)) < 0.03 and np.ptp(za) > 0.3  # the 0.5 m bounce: within 3 cm (2.1 cm)
 
 
 # ----------------------------------------------------------------------------- bodies and rods from MoorDyn's start
