@@ -19,8 +19,10 @@ numba stops accepting it or when it stops removing the reference counting.
 
 from __future__ import annotations
 
+import contextlib
 import operator
 
+import llvmlite.binding as llvm_binding
 import numpy as np
 from numba import njit, typeof
 
@@ -35,7 +37,52 @@ KERNEL_OPTIONS = {"cache": True, "error_model": "numpy", "_nrt": False}
 SAFE_FASTMATH = frozenset({"reassoc", "contract", "arcp", "nsz"})
 
 
-def kernel(fn=None, *, inline: str = "never", fastmath: bool = False):
+#: run-time overlap checks LLVM's loop vectoriser may insert in a :func:`vector_kernel` before it
+#: gives up on a loop (LLVM's limit is 8 otherwise). numba cannot tell LLVM that two arrays are
+#: distinct, so a loop that reads and writes a dozen arrays needs a check per pair of them.
+VECTORIZER_CHECKS = 1024
+#: the LLVM options that limit those checks, and LLVM's defaults, restored after each vector
+#: kernel is compiled
+_CHECK_OPTIONS = (("-runtime-memory-check-threshold", 8), ("-vectorize-memory-check-threshold", 128),
+                  ("-vectorize-scev-check-threshold", 16))
+# (the third limits the checks that index arithmetic does not wrap, which the node and segment
+# indices of one loop, offset from each other, need)
+
+
+def _set_check_limit(limit: int | None) -> None:
+    for name, default in _CHECK_OPTIONS:
+        llvm_binding.set_option("moorline", f"{name}={default if limit is None else limit}")
+
+
+@contextlib.contextmanager
+def overlap_checks(limit: int = VECTORIZER_CHECKS):
+    """Within the block, LLVM's loop vectoriser may insert up to ``limit`` run-time overlap checks
+    per loop (and as many run-time checks of its index arithmetic); LLVM's defaults after it."""
+    _set_check_limit(limit)
+    try:
+        yield
+    finally:
+        _set_check_limit(None)
+
+
+def vector_kernel(signature: str):
+    """Compile a loop kernel now, for ``signature``, with :data:`SAFE_FASTMATH` and LLVM allowed
+    :data:`VECTORIZER_CHECKS` run-time overlap checks per loop, so that LLVM vectorises its loop.
+
+    The limit is an LLVM command-line option (llvmlite's public ``set_option``), global to the
+    process: it is raised for this one compilation and set back to LLVM's default right after,
+    so no other numba code, moorline's or the user's, is compiled under it. Hence the eager
+    compilation: the kernel must not be compiled later, lazily, by whatever calls it first. From
+    numba's cache it is loaded as compiled; a caller compiled afterwards links the vectorised code
+    (tests/kernels/test_jit.py checks both).
+    """
+    def deco(fn):
+        with overlap_checks():
+            return njit(signature, **KERNEL_OPTIONS, fastmath=set(SAFE_FASTMATH))(fn)
+    return deco
+
+
+def kernel(fn=None, *, inline: str = "never", fastmath: bool = False, forceinline: bool = False):
     """Compile ``fn`` as a moorline kernel (``@kernel`` or ``@kernel(inline="always")``).
 
     Parameters
@@ -49,6 +96,11 @@ def kernel(fn=None, *, inline: str = "never", fastmath: bool = False):
     fastmath : bool
         Compile with :data:`SAFE_FASTMATH` (a function inlined with ``inline="always"`` takes
         its caller's flags).
+    forceinline : bool
+        LLVM-level inlining into every caller (numba's ``forceinline``), whatever LLVM's size
+        heuristics say. For the derivative: a call that is not inlined passes its ~220 arrays one
+        by one, about 0.65 us per evaluation, and LLVM's heuristic stops inlining it as soon as it
+        grows a little (benchmarks/RESULTS.md section 6).
 
     Returns
     -------
@@ -59,6 +111,8 @@ def kernel(fn=None, *, inline: str = "never", fastmath: bool = False):
         opts["inline"] = inline
     if fastmath:
         opts["fastmath"] = set(SAFE_FASTMATH)
+    if forceinline:
+        opts["forceinline"] = True
     if fn is None:
         return njit(**opts)
     return njit(**opts)(fn)

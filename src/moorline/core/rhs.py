@@ -222,7 +222,7 @@ def _any_viv(L):
     return False
 
 
-@kernel(fastmath=True)
+@kernel(fastmath=True, forceinline=True)
 def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 
