@@ -10,6 +10,9 @@
   with it when it has them.
 * The derivative's fast-math flags keep inf and nan as values (an unstable run is caught by its
   non-finite state).
+* The long lines' loops of the line kernel are vectorised (packed arithmetic), because they are
+  compiled with LLVM's overlap-check limit raised; the limit is LLVM's default again afterwards,
+  so nothing else is compiled under it; and a kernel compiled later links the vectorised code.
 """
 
 from __future__ import annotations
@@ -27,8 +30,9 @@ from numba import njit, typeof
 
 import moorline
 from moorline.core import features as F
+from moorline.core import lines as core_lines
 from moorline.core.features import RIGID, when
-from moorline.core.jit import KERNEL_OPTIONS, SAFE_FASTMATH
+from moorline.core.jit import KERNEL_OPTIONS, SAFE_FASTMATH, overlap_checks
 from moorline.core.lines import line_bending
 from moorline.core.rhs import set_water
 from moorline.core.rigid import rigid_dynamics, rod_loads
@@ -95,6 +99,67 @@ def test_derivative_fast_math_keeps_inf_and_nan():
     llvm = "\n".join(f.inspect_llvm().values())
     flags = re.findall(r"= f(?:mul|div) ((?:[a-z]+ )*)double", llvm)
     assert flags and all("reassoc" in fl and "nnan" not in fl and "ninf" not in fl for fl in flags), flags
+
+
+_PACKED = re.compile(r"\bv(?:mul|add|sub|div|sqrt|fmadd\w*|fmsub\w*|fnmadd\w*|fnmsub\w*)pd\b")
+_VECTOR_KERNELS = ("_segments_v", "_tangents_v", "_loads_v", "_accelerations_v")
+
+
+def _asm(f):
+    return "\n".join(f.inspect_asm().values())
+
+
+@pytest.mark.parametrize("name", _VECTOR_KERNELS)
+def test_long_line_loops_are_vectorised(name):
+    disp = getattr(core_lines, name)
+    (sig,) = disp.signatures
+    opts = {**KERNEL_OPTIONS, "cache": False, "fastmath": set(SAFE_FASTMATH)}
+    with overlap_checks():
+        inside = njit(sig, **opts)(disp.py_func)
+    assert _PACKED.search(_asm(inside)), f"{name}: no packed arithmetic, the loop is not vectorised"
+    if name == "_loads_v":
+        # two dozen arrays: beyond LLVM's default limit of overlap checks, so scalar without the
+        # raised limit (the limit is what vectorises it, and it is not left raised)
+        assert not _PACKED.search(_asm(njit(sig, **opts)(disp.py_func))), \
+            "_loads_v vectorised with LLVM's default overlap-check limit: this test no longer tells"
+
+
+def _many_arrays_source():
+    ins = [f"a{i}" for i in range(16)]
+    outs = [f"o{j}" for j in range(10)]
+    src = f"def many(n, {', '.join(ins + outs)}):\n    for i in range(np.uint64(n)):\n"
+    src += "        x = " + " + ".join(f"{a}[i]" for a in ins) + "\n"
+    src += "".join(f"        {o}[i] = x * a{j}[i]\n" for j, o in enumerate(outs))
+    ns = {"np": np}
+    exec(src, ns)
+    return ns["many"], "void(int64," + ",".join(["float64[::1]"] * 26) + ")"
+
+
+def test_overlap_check_limit_is_left_at_llvms_default():
+    """Other numba code compiled after moorline is imported (and after its vector kernels are
+    compiled) sees LLVM's default limit: a loop over 26 arrays stays scalar; within
+    ``overlap_checks`` it is vectorised."""
+    fn, sig = _many_arrays_source()
+    assert not _PACKED.search(_asm(njit(sig, error_model="numpy")(fn)))
+    with overlap_checks():
+        assert _PACKED.search(_asm(njit(sig, error_model="numpy")(fn)))
+    assert not _PACKED.search(_asm(njit(sig, error_model="numpy")(fn)))
+
+
+def _calls_loads_v(n0, nN, s0, l0, wf, T, Td, q, v, U, Ud, Fb, F, H, W, M):
+    core_lines._loads_v(n0, nN, s0, l0, wf, T, Td, q, v, U, Ud, Fb, F, H, W, M, 1025.0, 9.81, 100.0, 0.01, 0.1,
+                        1.2, 0.4, 1.0, 0.5)
+
+
+def test_a_caller_compiled_later_gets_the_vectorised_loop():
+    """A kernel compiled after the vector kernels (loaded from numba's cache or compiled at import)
+    links their vectorised code, under LLVM's default limit."""
+    f = njit(**{**KERNEL_OPTIONS, "cache": False})(_calls_loads_v)
+    n = 30
+    arrs2 = [np.random.default_rng(k).random((n, 3)) for k in range(11)]
+    l0, wf = np.ones(n), np.ones(n)
+    f(0, n - 1, 0, l0, wf, *arrs2)
+    assert _PACKED.search(_asm(f))
 
 
 @pytest.fixture

@@ -22,6 +22,10 @@ test asserts that each branch was actually hit:
   three lines; the coupled fairlead moves with a velocity (and an acceleration);
 * segments are randomly slack (no tension, damping only) or taut; water velocity, acceleration,
   surface elevation and drag scaling vary between cases.
+
+Every case runs twice: with the layout's own choice (these lines are short, so the line kernel's
+one scalar pass), and with every line that can take them (the chain: constant EA and BA) on the
+kernel's vectorised loops for long lines (``core.layout.VECTOR_MIN_NODES`` lowered to 2).
 """
 
 from __future__ import annotations
@@ -31,6 +35,7 @@ import math
 import numpy as np
 import pytest
 
+from moorline.core import layout as core_layout
 from moorline.core.features import BENDING
 from moorline.core.layout import Motion, build_layout
 from moorline.core.lines import segment_wet_fraction
@@ -403,8 +408,15 @@ def reference(model: Model, y, t, motion: Motion, kin, cd_scale):
 
 
 # ---------------------------------------------------------------------------------- the kernel
-def run_kernel(model, y, t, motion, kin, cd_scale):
-    layout = build_layout(model)
+def run_kernel(model, y, t, motion, kin, cd_scale, vector=False):
+    keep_min = core_layout.VECTOR_MIN_NODES
+    core_layout.VECTOR_MIN_NODES = 2 if vector else keep_min
+    try:
+        layout = build_layout(model)
+    finally:
+        core_layout.VECTOR_MIN_NODES = keep_min
+    # the chain (line 1) is the one line with constant EA and BA
+    assert list(layout.lines.vec) == ([1, 0, 0] if vector else [0, 0, 0])
     W = layout.new_work()
     # everything rhs must compute is poisoned first: a value it forgets to (re)set shows up as NaN
     # (bending forces and clamped-end moments are written only in a system with bending stiffness:
@@ -431,12 +443,14 @@ def rel_err(got, want, scale):
     return float(np.max(np.abs(got - want) / np.maximum(scale, 1e-300)))
 
 
-@pytest.fixture(scope="module", params=list(CASES))
+@pytest.fixture(scope="module", params=[(c, v) for c in CASES for v in ("scalar", "vector")],
+                ids=lambda p: f"{p[0]}-{p[1]}")
 def case(request):
-    model, y, t, motion, kin, cd_scale = make_case(**CASES[request.param])
+    name, path = request.param
+    model, y, t, motion, kin, cd_scale = make_case(**CASES[name])
     ref = reference(model, y, t, motion, kin, cd_scale)
-    layout, W, dy = run_kernel(model, y, t, motion, kin, cd_scale)
-    return request.param, model, ref, layout, W, dy
+    layout, W, dy = run_kernel(model, y, t, motion, kin, cd_scale, vector=path == "vector")
+    return f"{name} ({path})", model, ref, layout, W, dy
 
 
 # ---------------------------------------------------------------------------------- tests
@@ -496,7 +510,7 @@ def test_state_derivative(case):
 def test_rhs_is_repeatable_and_pure(case):
     """A second call on the same inputs gives bit-identical results (no accumulation across calls)."""
     name, _, _, layout, W, dy = case
-    _, y, t, motion, _, cd_scale = make_case(**CASES[name])
+    _, y, t, motion, _, cd_scale = make_case(**CASES[name.split(" (")[0]])
     dy2 = np.zeros_like(dy)
     rhs(t, y, dy2, layout.lines, layout.rigid, layout.points, layout.env, layout.seabed, motion, W, layout.fl,
         layout.new_float_work(), cd_scale, -1)

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..model import ELASTIC, SYROPE, SYROPE_WC_TYPES, BodyKind, Curve, Model, PointKind, RodKind
 from .features import Features, features_of
-from .linestates import N_XC, NWC, XC_HIST, XC_VIV, XC_WCLINE, build_working_curve
+from .linestates import N_XC, NWC, VIS_ELASTIC, XC_HIST, XC_VIV, XC_WCLINE, build_working_curve
 from .seabed import CONTACT_NORMAL, CONTACT_VERTICAL, FRIC_DIRECTIONAL, FRIC_ISOTROPIC, FRIC_STICKSLIP
 from .waterkin import build_water_kinematics, still_water
 
@@ -36,6 +36,12 @@ P_BODY = int(PointKind.BODY)
 ATT_POINT = 0
 ATT_ROD_A = 1
 ATT_ROD_B = 2
+
+
+#: lines of at least this many nodes, with linear EA and BA, take the line kernel's vectorised loops
+#: over their segments and interior nodes (``LineArrays.vec``); shorter ones its one scalar pass,
+#: which is faster for them (benchmarks/RESULTS.md section 6)
+VECTOR_MIN_NODES = 16
 
 
 class LineArrays(NamedTuple):
@@ -80,6 +86,8 @@ class LineArrays(NamedTuple):
     sy_T: np.ndarray  # (n_seg, 2): Syrope Tmax, Tmean [N] (history)
     sy_wc: np.ndarray  # (n_seg or 0, NWC, 3): Syrope working curves (history)
     calc: np.ndarray  # int64 (n_lines,): 1 evaluate the line's loads; 0 keep its last ones (local Euler)
+    vec: np.ndarray  # int64 (n_lines,): 1 for the lines whose segments and interior nodes are done in the
+    #                  line kernel's vectorised loops (VECTOR_MIN_NODES), 0 for its one scalar pass
 
 
 # rod kinds (mirror model.RodKind) and body kinds (mirror model.BodyKind)
@@ -664,9 +672,13 @@ def build_layout(model: Model, floating=None) -> Layout:
         body=np.array([p.body if p.kind == PointKind.BODY else -1 for p in model.points], dtype=np.int64),
     )
     states, nx = _line_state_arrays(model, node_ptr, seg_ptr)
+    vis = states[0]
+    vec = ((vis == VIS_ELASTIC) & (ea_tab[:, 1] == 0) & (ba_tab[:, 1] == 0)
+           & (np.diff(node_ptr) >= VECTOR_MIN_NODES)).astype(np.int64)
     lines = LineArrays(node_ptr, seg_ptr, end_kind, end_idx, clamped, props["d"], props["A"], props["w"],
                        props["Cd"], props["Ca"], props["CdAx"], props["CaAx"], ea_tab, ba_tab, EI, ei_tab, seg_l0,
-                       seg_EA, seg_BA, np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row, *states)
+                       seg_EA, seg_BA, np.array(tab_x, dtype=float), np.array(tab_y, dtype=float), node_row, *states,
+                       vec)
     _start_syrope(model, lines)
     if floating is None:
         fl, exc = empty_float_arrays(len(model.bodies)), no_excitation(0)
