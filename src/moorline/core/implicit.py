@@ -79,7 +79,7 @@ from .jacobian import (
 from .jit import kernel
 from .layout import Layout
 from .linestates import MODE_RATE, XC_MODE, end_line_states, keep_rates, start_line_states, store_line_states
-from .rhs import motion_eval, motion_piece, rhs
+from .rhs import motion_eval, motion_piece, rhs_call
 
 #: the Jacobian is rebuilt when the contraction of the Newton increments is at least THETA_MAX, or
 #: predicts more than SLOW_ITER further iterations (a Jacobian costs 9-15 derivative evaluations)
@@ -212,7 +212,7 @@ def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
     newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
-    rhs(t + h, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
+    rhs_call(t + h, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
     IW.stat[S_NRHS] += 1
     am = par[0]
     af = par[1]
@@ -239,7 +239,7 @@ def _start_derivative(y, t, A, IW, L, R, P, E, B, Mo, W, F, FW, piece, commit):
     uoff = 3 * R.dims[0] + 7 * R.dims[1]
     if commit:
         B.ctl[1] = 1
-    rhs(t, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, A.par[8], piece)
+    rhs_call(t, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, A.par[8], piece)
     B.ctl[1] = 0
     IW.stat[S_NRHS] += 1
     for i in range(IW.fs.size):
@@ -378,7 +378,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
             if nx > 0:
                 # the line states at the end of the step: one evaluation there (condensed stretch,
                 # VIV phase rates), then the Syrope history
-                rhs(t + h, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
+                rhs_call(t + h, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
                 IW.stat[S_NRHS] += 1
                 when(W, LINE_STATES, store_line_states, (y, L, R, W, h, True))
                 when(W, LINE_STATES, end_line_states, (L,))
@@ -481,7 +481,7 @@ def advance_implicit(y, t, t_end, dtM, A, IW, L, R, P, E, B, Mo, W, F, FW, vmax,
             stat[S_EASY] = 0
     stat[S_H] = h_cur
     if final_eval:
-        rhs(t, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, piece)
+        rhs_call(t, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, piece)
     return t, 0, -1, piece
 
 

@@ -17,7 +17,7 @@ import numpy as np
 from .features import FIXED_POINT, FLOATING, MOORDYN_SCHEMES, when
 from .floating import floating_after_step
 from .jit import kernel
-from .rhs import motion_piece, rhs
+from .rhs import motion_piece, rhs, rhs_call
 from .schemes import (
     SP_BETA,
     SP_GAMMA,
@@ -334,5 +334,5 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale,
         if bad >= 0:
             return t, bad, n_steps, piece
     if final_eval:
-        rhs(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+        rhs_call(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     return t, -1, n_steps, piece

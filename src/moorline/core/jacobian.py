@@ -30,7 +30,7 @@ from .floating import radiation_trapezoid
 from .jit import kernel
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
 from .numerics import lu_factor, lu_solve, quat_mul
-from .rhs import rhs
+from .rhs import rhs_call
 from .seabed import contact_slope, seabed_at
 
 # indices into ImplicitWork.stat
@@ -570,7 +570,7 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
             if not shift_colour(A, cu, k, IW.a1, IW.eps, 1.0):
                 continue
             newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, scratch)
-            rhs(t + h, y, f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
+            rhs_call(t + h, y, f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
             IW.stat[S_NRHS] += 1
             shift_colour(A, cu, k, IW.a1, IW.eps, -1.0)
             assemble(A, IW, IW.f0, f1, uoff, cu, k, 1.0 - par[0], 1.0 - af, IW.eps)

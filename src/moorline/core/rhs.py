@@ -328,3 +328,12 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
             when(W, FLOATING, floating_loads, (t, y, dy, R, E, W, F, FW))
             when(W, FLOATING, floating_motion, (R, W, F, FW))
         when(W, RIGID, body_motion, (y, dy, R, W, F))
+
+
+@kernel(fastmath=True)
+def rhs_call(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
+    """:func:`rhs` as a function of its own, for the kernels that evaluate it outside the explicit
+    schemes' stages (initial conditions, implicit solvers and their Jacobians, the end of a time
+    loop): ``rhs`` is inlined into every kernel that calls it (``forceinline``, which the stage
+    loop needs), and a dozen copies of it would multiply their compile time; here it is one."""
+    rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)

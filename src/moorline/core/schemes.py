@@ -27,7 +27,7 @@ import math
 
 from .jit import kernel
 from .linestates import xs_start
-from .rhs import rhs
+from .rhs import rhs_call
 
 SP_ORDER = 4
 SP_STEPS = 5
@@ -49,7 +49,7 @@ def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     for i in range(y.size):
         y[i] += h * f_old[i]
     B.ctl[1] = 1
-    rhs(t, y, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+    rhs_call(t, y, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     for i in range(y.size):
         y[i] += 0.5 * h * (f[i] - f_old[i])
@@ -67,7 +67,7 @@ def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     f2 = S[2]
     f3 = S[3]
     B.ctl[1] = 1
-    rhs(t, y, f0, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+    rhs_call(t, y, f0, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     if n == 0:
         for i in range(y.size):
@@ -205,7 +205,7 @@ def newmark_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     for m in range(M):
         _newmark_state(y, d0, d1, y1, R, h, h, 0.5 - beta, beta, 1.0 - gamma, gamma)
         B.ctl[1] = 1 if m == 0 else 0
-        rhs(t + h, y1, d1, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+        rhs_call(t + h, y1, d1, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         if m < M - 1:
             rel = relax_factor(m, M, c0, c1)
             for i in range(y.size):
@@ -235,7 +235,7 @@ def wilson_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     for m in range(M):
         _newmark_state(y, d0, d1, y1, R, tdt, 0.5 * tdt, 2.0 / 3.0, 1.0 / 3.0, 0.5, 0.5)
         B.ctl[1] = 1 if m == 0 else 0
-        rhs(t + tdt, y1, d1, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+        rhs_call(t + tdt, y1, d1, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         if m < M - 1:
             rel = relax_factor(m, M, c0, c1)
             for i in range(y.size):

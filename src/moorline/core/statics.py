@@ -14,7 +14,7 @@ from .integrate import advance
 from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
 from .jit import kernel
 from .linestates import xs_offset
-from .rhs import rhs
+from .rhs import rhs_call
 
 # -1 (evaluate the coupled trajectory on the piece that holds t), passed as np.int64(-1) in the
 # kernels: the literal -1 would make numba compile rhs once more for the type Literal[int](-1)
@@ -103,7 +103,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
     next_check = dtIC
     it = 0
     while True:
-        rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
+        rhs_call(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
         e = _accel_norm_sum(dy, n3, n6)
         if e0 < 0.0:
             e0 = e
@@ -111,7 +111,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
             b /= 1.01
             for i in range(uoff):
                 y[i] = 0.5 * (y[i] + qprev[i])
-            rhs(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
+            rhs_call(0.0, y, dy, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
             e = _accel_norm_sum(dy, n3, n6)
         else:
             b *= 1.01
@@ -213,7 +213,7 @@ def static_eval(y, A, IW, L, R, P, E, B, Mo, W, F, FW, jac, diag):
     if not jac:
         for i in range(uoff, xs_offset(R)):  # the line states are kept (see stationary_solve)
             y[i] = 0.0
-        rhs(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
+        rhs_call(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
         IW.stat[S_NRHS] += 1
         big = 0.0
         s = 0.0
@@ -239,7 +239,7 @@ def static_eval(y, A, IW, L, R, P, E, B, Mo, W, F, FW, jac, diag):
             for i in range(y.size):
                 y[i] = IW.y0[i]
             displace(IW.y0, dq, y, n3, n6, 1.0)
-            rhs(0.0, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
+            rhs_call(0.0, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
             IW.stat[S_NRHS] += 1
             assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
     IW.stat[S_NJAC] += 1
