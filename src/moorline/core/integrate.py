@@ -243,7 +243,7 @@ def _implicit_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece)
     for m in range(M):
         _axpy(ys, y, c * h, f)
         B.ctl[1] = 1 if m == 0 else 0
-        rhs(t + c * h, ys, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+        rhs_call(t + c * h, ys, f, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
         if m < M - 1:
             rel = c0 * (1.0 - 1.0 / M) + c1 * (1.0 - 0.5 * (math.tanh(4.0 * ((m + 1.0) / M - 0.5)) + 1.0))
             for i in range(y.size):

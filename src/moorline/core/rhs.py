@@ -333,7 +333,8 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
 @kernel(fastmath=True)
 def rhs_call(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     """:func:`rhs` as a function of its own, for the kernels that evaluate it outside the explicit
-    schemes' stages (initial conditions, implicit solvers and their Jacobians, the end of a time
-    loop): ``rhs`` is inlined into every kernel that calls it (``forceinline``, which the stage
-    loop needs), and a dozen copies of it would multiply their compile time; here it is one."""
+    schemes' stages (initial conditions, implicit solvers and their Jacobians, MoorDyn's other
+    schemes, the end of a time loop): ``rhs`` is inlined into every kernel that calls it
+    (``forceinline``, which the stage loop needs), and each copy costs compile time (some 4-10 s of
+    CPU for a first run); here it is one."""
     rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
