@@ -785,9 +785,6 @@ def _long_line_nodes(L, E, B, W, li, n0, N, s0, d, A, w, Cd, CdAx, Ca, CaAx, cla
     flat = gx.size == 0
     stickslip = E.fric == FRIC_STICKSLIP
     stick_commit = stickslip and ctl[0] != 0 and ctl[1] != 0
-    # a long line with linear EA and BA: the interior nodes in vectorised loops (tangents;
-    # every load but the seabed's; accelerations), the two ends and the seabed contact,
-    # which branch, in scalar loops
     nN = n0 + N
     for j in range(2):
         n = n0 if j == 0 else nN
