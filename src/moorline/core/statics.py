@@ -12,7 +12,7 @@ import numpy as np
 
 from .integrate import advance
 from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
-from .jit import kernel
+from .jit import compile_for, kernel
 from .linestates import xs_offset
 from .rhs import rhs_call
 
@@ -196,56 +196,105 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
 
 # ---------------------------------------------------------------------------------------------- Newton statics
 @kernel
-def static_eval(y, A, IW, L, R, P, E, B, Mo, W, F, FW, jac, diag):
-    """Newton statics' one compiled evaluation (one kernel, so the derivative and its closure are
-    compiled once for it; the Newton loop that calls it is :func:`newton_statics`).
+def _static_velocities(y, R):
+    """Newton statics' state: zero velocities of nodes, points, rods and bodies (the line states
+    after them are kept, see stationary_solve)."""
+    uoff = 3 * R.dims[0] + 7 * R.dims[1]
+    for i in range(uoff, xs_offset(R)):
+        y[i] = 0.0
 
-    ``jac`` False: the residual, f at the positions of ``y`` with zero velocities (line states
-    kept) into IW.f0 and -f's accelerations into IW.G. Returns (0, max |acc|, L2 norm).
 
-    ``jac`` True: J = diag I - df/dx at the positions IW.y0 (zero velocities) by coloured finite
-    differences, factored; IW.f0 must hold the derivative at IW.y0. ``y`` is left at IW.y0.
-    Returns (LU status, 0, 0).
-    """
-    n3 = R.dims[0]
-    n6 = R.dims[1]
-    uoff = 3 * n3 + 7 * n6
-    if not jac:
-        for i in range(uoff, xs_offset(R)):  # the line states are kept (see stationary_solve)
-            y[i] = 0.0
-        rhs_call(0.0, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
-        IW.stat[S_NRHS] += 1
-        big = 0.0
-        s = 0.0
-        for i in range(IW.G.size):
-            g = IW.f0[uoff + i]
-            IW.G[i] = -g
-            s += g * g
-            if abs(g) > big or not np.isfinite(g):
-                big = abs(g) if np.isfinite(g) else np.inf
-        return 0, big, math.sqrt(s)
-    nd = IW.a1.size
-    fd_steps(IW, n3, n6, 1e-7, 1.0)
-    clear(IW)
-    nc = A.col_ptr.size - 1
-    kmax = 6 if n6 > 0 else 3
+@kernel
+def _static_residual(IW, uoff):
+    """After an evaluation into IW.f0: -f's accelerations into IW.G, the evaluation counted.
+    Returns (max |acc|, L2 norm); inf for a non-finite one."""
+    IW.stat[S_NRHS] += 1
+    big = 0.0
+    s = 0.0
+    for i in range(IW.G.size):
+        g = IW.f0[uoff + i]
+        IW.G[i] = -g
+        s += g * g
+        if abs(g) > big or not np.isfinite(g):
+            big = abs(g) if np.isfinite(g) else np.inf
+    return big, math.sqrt(s)
+
+
+@kernel
+def _colour_state(A, IW, y, cu, k, n3, n6):
+    """The state of one finite-difference column group of Newton statics' Jacobian: ``y`` = IW.y0
+    displaced along component ``k`` of the nodes of colour ``cu``. False if the colour has no
+    such component (nothing to evaluate)."""
     dq = IW.da
-    for cu in range(nc):
-        for k in range(kmax):
-            for i in range(nd):
-                dq[i] = 0.0
-            if not shift_colour(A, cu, k, dq, IW.eps, 1.0):
-                continue
-            for i in range(y.size):
-                y[i] = IW.y0[i]
-            displace(IW.y0, dq, y, n3, n6, 1.0)
-            rhs_call(0.0, y, IW.f1, L, R, P, E, B, Mo, W, F, FW, 1.0, np.int64(-1))
-            IW.stat[S_NRHS] += 1
-            assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
+    for i in range(IW.a1.size):
+        dq[i] = 0.0
+    if not shift_colour(A, cu, k, dq, IW.eps, 1.0):
+        return False
+    for i in range(y.size):
+        y[i] = IW.y0[i]
+    displace(IW.y0, dq, y, n3, n6, 1.0)
+    return True
+
+
+@kernel
+def _colour_columns(A, IW, uoff, cu, k, diag):
+    """Assemble the Jacobian's columns of one group from the evaluation at its state (IW.f1)."""
+    IW.stat[S_NRHS] += 1
+    assemble(A, IW, IW.f0, IW.f1, uoff, cu, k, diag, 1.0, IW.eps)
+
+
+@kernel
+def _static_factor(A, IW, y):
+    """``y`` back to IW.y0, the Jacobian counted and factored; returns LU's status."""
     IW.stat[S_NJAC] += 1
     for i in range(y.size):
         y[i] = IW.y0[i]
-    return factor(A, IW), 0.0, 0.0
+    return factor(A, IW)
+
+
+class StaticEval:
+    """Newton statics' evaluations: the residual, and J = diag I - df/dx at IW.y0 (zero
+    velocities) by coloured finite differences, factored.
+
+    The loops over the colours run in Python around compiled pieces that call the derivative
+    from Python (its kept entry point, :func:`moorline.core.jit.compile_for`), not in one compiled
+    kernel: a kernel that calls ``rhs_call`` is compiled with the derivative's whole closure
+    linked in and optimised once more for it, some 9 s of CPU time of a first run for the README
+    example (benchmarks/RESULTS.md, first-run section); here the Python costs a few
+    microseconds per evaluation of a derivative that is evaluated a few hundred times.
+    """
+
+    def __init__(self, y, A, IW, L, R, P, E, B, Mo, W, F, FW):
+        self.y, self.A, self.IW = y, A, IW
+        self.n3 = int(R.dims[0])
+        self.n6 = int(R.dims[1])
+        self.uoff = 3 * self.n3 + 7 * self.n6
+        self.R = R
+        self.nt = (L, R, P, E, B, Mo, W, F, FW)
+        self.rhs = compile_for(rhs_call, (0.0, y, IW.f0, *self.nt, 1.0, np.int64(-1)))
+
+    def residual(self) -> tuple[float, float]:
+        """f at the positions of ``y`` with zero velocities (line states kept) into IW.f0 and -f's
+        accelerations into IW.G. Returns (max |acc|, L2 norm)."""
+        y, IW = self.y, self.IW
+        _static_velocities(y, self.R)
+        self.rhs(0.0, y, IW.f0, *self.nt, 1.0, np.int64(-1))
+        return _static_residual(IW, self.uoff)
+
+    def jacobian(self, diag: float) -> int:
+        """J = diag I - df/dx at IW.y0, factored (IW.f0 must hold f at IW.y0; ``y`` is left at
+        IW.y0). Returns LU's status (0 factored)."""
+        y, A, IW, n3, n6 = self.y, self.A, self.IW, self.n3, self.n6
+        fd_steps(IW, n3, n6, 1e-7, 1.0)
+        clear(IW)
+        kmax = 6 if n6 > 0 else 3
+        rhs, nt, f1 = self.rhs, self.nt, IW.f1
+        for cu in range(A.col_ptr.size - 1):
+            for k in range(kmax):
+                if _colour_state(A, IW, y, cu, k, n3, n6):
+                    rhs(0.0, y, f1, *nt, 1.0, np.int64(-1))
+                    _colour_columns(A, IW, self.uoff, cu, k, diag)
+        return int(_static_factor(A, IW, y))
 
 
 def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter, min_growth=1.0):
@@ -258,7 +307,7 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
     slowly (a touchdown creeping along a chain, one node per few iterations) is not held at small
     steps (:func:`moorline.system.initial.newton_ic` uses 2).
 
-    The loop is Python around compiled kernels (:func:`static_eval`, ``solve_increment``,
+    The loop is Python around compiled kernels (:class:`StaticEval`, ``solve_increment``,
     ``displace``): it runs a few tens of iterations of milliseconds each, so the Python costs
     nothing that counts, while a compiled loop cost a first run some 13 s of compile time (the
     derivative's closure optimised once more for it).
@@ -274,14 +323,9 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
     """
     n3 = int(R.dims[0])
     n6 = int(R.dims[1])
-    args = (A, IW, L, R, P, E, B, Mo, W, F, FW)
-
-    def residual():
-        _, b, n = static_eval(y, *args, False, 0.0)
-        return b, n
-
-    def jacobian(diag):
-        return static_eval(y, *args, True, diag)[0]
+    ev = StaticEval(y, A, IW, L, R, P, E, B, Mo, W, F, FW)
+    residual = ev.residual
+    jacobian = ev.jacobian
 
     tau2 = tau0 * tau0
     big, nrm = residual()
