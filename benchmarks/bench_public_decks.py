@@ -16,6 +16,10 @@ per second over the same piecewise linear trajectory), which is what ``moorline 
 Initial conditions are solved once per run and are not timed; moorline's first (compiling) call
 is not timed either.
 
+``--loads-at last_stage`` builds moorline's systems with MoorDyn's convention for the loads after
+a step (those of the last stage, as ``moorline.moordyn`` does; the default is moorline's, the
+loads at the state reached, one evaluation more per call).
+
 Reported per deck: nodes, scheme, dtM, the wall time of the three runs (median of ``--repeat``),
 node-steps per second (of the compiled loop) and the ratios moorline / MoorDyn measured side by side in one process, and
 the largest difference of the final coupled forces relative to MoorDyn's largest (a check that
@@ -74,11 +78,11 @@ def surge_of(labels: list[str], X0: np.ndarray):
 _x0: dict = {}
 
 
-def run_moorline(deck: Path, duration, dt, mode):
+def run_moorline(deck: Path, duration, dt, mode, loads_at="end"):
     from moorline import System
     from moorline.motion import Trajectory
 
-    s = System.from_file(deck)
+    s = System.from_file(deck, loads_at=loads_at)
     X0 = s.deck_coupled_positions()
     _x0[deck] = X0
     X = surge_of(s.coupled_dof_labels, X0)
@@ -113,6 +117,9 @@ def main(argv=None) -> int:
     ap.add_argument("--dt", type=float, default=0.01, help="coupling step [s]")
     ap.add_argument("--only", help="run the decks whose label contains this")
     ap.add_argument("--out", help="also write the table (markdown) here")
+    ap.add_argument("--loads-at", default="end", choices=("end", "last_stage"),
+                    help="moorline's loads after a step: at the state reached (its default) or MoorDyn's "
+                         "convention, the last stage's (what moorline.moordyn uses)")
     a = ap.parse_args(argv)
     if not PUBLIC.exists():
         print(f"{PUBLIC} not found: nothing to run")
@@ -133,7 +140,7 @@ def main(argv=None) -> int:
             for mode in ("step", "advance"):
                 walls = []
                 for _ in range(a.repeat):
-                    w, nodes, f, s = run_moorline(deck, a.duration, a.dt, mode)
+                    w, nodes, f, s = run_moorline(deck, a.duration, a.dt, mode, a.loads_at)
                     walls.append(w)
                 res[mode] = (statistics.median(walls), f)
             labels = s.coupled_dof_labels

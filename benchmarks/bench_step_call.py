@@ -33,8 +33,9 @@ trajectory's x and xd computed before timing), in one process, in interleaved ro
 
 ``--loads-at last_stage`` builds the systems with MoorDyn's convention (that of
 :mod:`moorline.moordyn`): each call then ends with an evaluation at the state reached, over which
-the last stage's loads are kept, and the "Python side" columns include that evaluation (its
-stand-in returns piece 0, a step taken).
+the last stage's loads are kept; since 2026-11-26 (session 8) it runs inside the compiled call
+(``core.integrate.last_stage_eval``), so the "Python side" columns no longer include it, and the
+"end evaluation" columns time it.
 
 Not a test: timings on a shared machine are noisy
 (read the load average printed first; the minimum over rounds is the figure least affected).
@@ -58,6 +59,7 @@ from bench_public_decks import surge_of  # noqa: E402
 from bench_vs_moordyn import moordyn_copy  # noqa: E402
 
 from moorline import System  # noqa: E402
+from moorline.core.integrate import FINAL_NONE  # noqa: E402
 
 PUBLIC = HERE.parent.parent / "shared" / "public_decks" / "FloatingArrayDesign+MoorDyn"
 DECKS = [PUBLIC / "tests" / "Mooring" / "WD0050_Chain.txt", PUBLIC / "bench" / "Mooring" / "no_waves.txt",
@@ -142,7 +144,9 @@ def _bench(deck: Path, calls: int, rounds: int, dt: float, md, loads_at: str, sc
             else:
                 p = s._plan
                 fn, y, tk, cx, cxd = p.fn, p.head[0], p.tk, p.cx, p.cxd
-                tail = p.tail[:-1] + (name in ("entry", "floor + end evaluation"),)
+                final = p.tail[-1] if name in ("entry", "floor + end evaluation") else (
+                    False if p.implicit else FINAL_NONE)
+                tail = p.tail[:-1] + (final,)
                 h = 0.0 if name.startswith("floor") else dt
                 t0 = time.perf_counter()
                 for k in ks:

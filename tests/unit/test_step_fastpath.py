@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from moorline.core.features import STICKSLIP, Features
+from moorline.core.integrate import FINAL_END, FINAL_LAST_STAGE, FINAL_NONE
 from moorline.core.layout import step_motion
 from moorline.errors import SimulationError
 from moorline.io import read_deck_text
@@ -200,7 +201,7 @@ def test_loads_at_last_stage_and_the_modes_without_a_fast_path():
     t = _run(ref, sys_, 0, 30, 0.0, "last_stage")
     assert general == []
     p = sys_._plan
-    assert p.fn is not None and p.keep is not None and p.tail[-1] is False
+    assert p.fn is not None and p.tail[-1] == FINAL_LAST_STAGE
     # the loads are the last stage's, the positions those reached: not those of an evaluation there
     end = System.from_file(EXAMPLE)
     end.init()
@@ -216,11 +217,11 @@ def test_loads_at_last_stage_and_the_modes_without_a_fast_path():
     for s in (ref, sys_):
         s.loads_at = "end"
     t = _run(ref, sys_, 31, 5, t, "end")
-    assert sys_._plan is not p and sys_._plan.keep is None and sys_._plan.tail[-1] is True
+    assert sys_._plan is not p and sys_._plan.tail[-1] == FINAL_END
     for s in (ref, sys_):
         s.loads_at = "last_stage"
     _run(ref, sys_, 36, 5, t, "last_stage again")
-    assert sys_._plan.keep is not None
+    assert sys_._plan.tail[-1] == FINAL_LAST_STAGE
     # quasi-static lines: no plan (nothing compiled to find that out)
     qs = System.from_file(EXAMPLE)
     qs._qsm = object()  # (what mooring="quasistatic" sets; this deck has no line left dynamic for that mode)
@@ -417,6 +418,41 @@ VIV = Path(__file__).resolve().parents[3] / "shared" / "public_decks" / "Floatin
     "Mooring" / "viv" / "viv.txt"
 
 
+#: the loads MoorDyn's convention keeps from a step's last stage (core.integrate._keep_stage_loads)
+STAGE_LOADS = ("T", "Td", "seg_len", "seg_ldot", "F", "Fhyd", "Fbed", "W", "kurv", "pF", "pa")
+
+
+def test_last_stage_is_the_last_stages_loads_with_the_rest_at_the_end():
+    """What loads_at='last_stage' means, checked against the two evaluations it combines rather
+    than against the general path (which runs the same kernel): after the same calls, its state
+    is that of loads_at='end' bit for bit; its stage loads are those the step's last stage left
+    (a system whose time loop ends with no evaluation, FINAL_NONE); everything else in Work
+    (positions, velocities, accelerations, water kinematics, mass matrices, ...) is that of the
+    evaluation at the state reached (loads_at='end')."""
+    last = System.from_file(EXAMPLE, loads_at="last_stage")
+    end = System.from_file(EXAMPLE)
+    none = System.from_file(EXAMPLE)
+    for s in (last, end, none):
+        s.init()
+    t = 0.0
+    for k in range(12):
+        for s in (last, end, none):
+            s.step(*_x(s, k), t, DT)
+            if s is none and k == 0:  # the kept call, made to end without an evaluation
+                p = s._plan
+                assert p.tail[-1] == FINAL_END
+                p.tail = p.tail[:-1] + (FINAL_NONE,)
+        t += DT
+    assert np.array_equal(last.y, end.y) and np.array_equal(last.y, none.y)
+    assert not np.array_equal(end.work.T, none.work.T)  # (so that the comparisons below can fail)
+    for name in last.work._fields:
+        a = getattr(last.work, name)
+        if not isinstance(a, np.ndarray) or name == "kept":
+            continue
+        ref = getattr(none.work if name in STAGE_LOADS else end.work, name)
+        assert np.array_equal(a, ref), f"Work.{name}"
+
+
 def test_last_stage_with_viv_keeps_the_remembered_accelerations():
     """MoorDyn's viv.txt (a riser in a current with VIV, RK4 at 0.1 ms): with loads_at='last_stage'
     the evaluation at the state reached must leave VIV's remembered accelerations and the line
@@ -440,7 +476,7 @@ def test_last_stage_with_viv_keeps_the_remembered_accelerations():
     for k in range(6):
         _both(ref, sys_, x, None, t, DT, f"viv call {k}")
         t += DT
-    assert sys_._plan.fn is not None and sys_._plan.viv_acc is not None and general == []
+    assert sys_._plan.fn is not None and general == []
 
 
 @pytest.mark.parametrize("loads_at", ["end", "last_stage"])
@@ -452,7 +488,7 @@ def test_genalpha(loads_at):
     t = _run(ref, sys_, 0, 40, 0.0, "GenAlpha")
     assert general == []
     p = sys_._plan
-    assert p.fn is not None and p.implicit and p.keep is None and p.imp is sys_._imp
+    assert p.fn is not None and p.implicit and p.imp is sys_._imp
     # the solver's work replaced (a line failure does this, rebuilding it on its next use)
     for s in (ref, sys_):
         s._imp = None

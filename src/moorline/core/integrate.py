@@ -17,7 +17,8 @@ import numpy as np
 from .features import FIXED_POINT, FLOATING, MOORDYN_SCHEMES, when
 from .floating import floating_after_step
 from .jit import kernel
-from .rhs import motion_piece, rhs, rhs_call
+from .linestates import XC_HIST
+from .rhs import _any_viv, motion_piece, rhs, rhs_call
 from .schemes import (
     SP_BETA,
     SP_GAMMA,
@@ -303,11 +304,78 @@ def step_end(Mo, j, t, h, t_end, tol):
     return t + h
 
 
+#: ``final_eval`` of :func:`advance`: no evaluation after the last step, an evaluation at the
+#: state reached (``loads_at='end'``), or MoorDyn's convention (``loads_at='last_stage'``)
+FINAL_NONE = 0
+FINAL_END = 1
+FINAL_LAST_STAGE = 2
+
+
+@kernel(inline="always")
+def _keep(a, k, o, back):
+    """Copy the C-contiguous array ``a`` into ``k[o:]`` (``back``: from ``k[o:]`` into ``a``);
+    returns the offset after it."""
+    f = a.reshape(a.size)
+    if back:
+        for i in range(f.size):
+            f[i] = k[o + i]
+    else:
+        for i in range(f.size):
+            k[o + i] = f[i]
+    return o + f.size
+
+
+@kernel(inline="always")
+def _keep_stage_loads(W, back, viv):
+    """The loads a step's last stage leaves in Work (and, with VIV, the accelerations it
+    remembers) into ``W.kept``, or back from it."""
+    k = W.kept
+    o = _keep(W.T, k, 0, back)
+    o = _keep(W.Td, k, o, back)
+    o = _keep(W.seg_len, k, o, back)
+    o = _keep(W.seg_ldot, k, o, back)
+    o = _keep(W.F, k, o, back)
+    o = _keep(W.Fhyd, k, o, back)
+    o = _keep(W.Fbed, k, o, back)
+    o = _keep(W.W, k, o, back)
+    o = _keep(W.kurv, k, o, back)
+    o = _keep(W.pF, k, o, back)
+    o = _keep(W.pa, k, o, back)
+    if viv:
+        _keep(W.acc, k, o, back)
+
+
+@kernel
+def last_stage_eval(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
+    """MoorDyn's convention for the loads after a step (``loads_at='last_stage'``): evaluate at the
+    state reached, so that positions, velocities and everything else in Work describe it, but keep
+    the loads of the step's last stage (line tensions and damping, segment lengths and rates, node
+    forces, curvatures, point forces and accelerations) over the evaluation. ``piece`` < 0 (no
+    step taken): a plain evaluation. The evaluation is not a step: the line-state histories
+    (Syrope) are not updated, and the accelerations VIV remembers stay those of the last stage."""
+    keep = piece >= 0
+    viv = _any_viv(L)
+    if keep:
+        _keep_stage_loads(W, False, False)
+    if viv:
+        _keep(W.acc, W.kept, W.kept.size - W.acc.size, False)
+    hist = L.xs_ctl[XC_HIST]
+    L.xs_ctl[XC_HIST] = 0.0
+    rhs_call(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+    L.xs_ctl[XC_HIST] = hist
+    if keep:
+        _keep_stage_loads(W, True, False)
+    if viv:
+        _keep(W.acc, W.kept, W.kept.size - W.acc.size, True)
+
+
 @kernel
 def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax, final_eval):
-    """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``; with
-    ``final_eval``, evaluate all loads once more at the final state (on the last step's trajectory
-    piece) so that the Work arrays describe the state at ``t_end``.
+    """Integrate ``y`` in place from ``t`` to ``t_end`` in steps of at most ``dtM``. ``final_eval``
+    (:data:`FINAL_END`): evaluate all loads once more at the final state (on the last step's
+    trajectory piece) so that the Work arrays describe the state at ``t_end``;
+    :data:`FINAL_LAST_STAGE`: the same but with the last stage's loads kept
+    (:func:`last_stage_eval`); :data:`FINAL_NONE`: no evaluation.
 
     Returns
     -------
@@ -333,6 +401,8 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale,
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             return t, bad, n_steps, piece
-    if final_eval:
+    if final_eval == FINAL_END:
         rhs_call(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+    elif final_eval == FINAL_LAST_STAGE:
+        last_stage_eval(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     return t, -1, n_steps, piece

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from .integrate import advance
+from .integrate import FINAL_END, advance
 from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
 from .jit import compile_for, kernel
 from .linestates import xs_offset
@@ -170,9 +170,9 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
     ns = 0
     while t < TmaxIC - 1e-12:
         t1 = min(t + dtc, TmaxIC)
-        # final_eval: the Work arrays then hold the loads of the state at t1
+        # FINAL_END: the Work arrays then hold the loads of the state at t1
         t, bad, _, _ = advance(y, t, t1, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, vmax,
-                               np.bool_(True))
+                               np.int64(FINAL_END))
         if bad >= 0:
             return False, t, bad
         _fairlead_tensions(L, W, ten)

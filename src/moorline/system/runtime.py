@@ -23,7 +23,7 @@ import numpy as np
 from ..core.features import features_of
 from ..core.floating import floating_restart
 from ..core.implicit import advance_implicit, build_implicit, new_implicit_work
-from ..core.integrate import RHO_INF, Scheme, advance, parse_scheme
+from ..core.integrate import FINAL_END, FINAL_LAST_STAGE, RHO_INF, Scheme, advance, parse_scheme
 from ..core.jacobian import (
     S_AVALID,
     S_H,
@@ -88,8 +88,6 @@ class System:
         with positions and velocities from the end of the step. The two differ only in the
         fastest (axial segment) modes; use ``'last_stage'`` to compare with MoorDyn sample by sample.
     """
-
-    _STAGE_FIELDS = ("T", "Td", "seg_len", "seg_ldot", "F", "Fhyd", "Fbed", "W", "kurv", "pF", "pa")
 
     def __init__(self, model: Model, *, dtM: float | None = None, scheme: str | None = None,
                  loads_at: str = "end", mooring: str = "dynamic", qs_interval: float | None = None,
@@ -435,19 +433,6 @@ class System:
                     raise self._instability(self.t, int(bad), "")
                 if not self._grid_warned and p.bed_ctl[2] > 0:
                     self._check_grid()
-                if p.keep is not None:  # loads_at='last_stage': _advance_interval's evaluation, see stepplan
-                    if piece >= 0:
-                        for a, b in p.keep:
-                            b[...] = a
-                    xs_ctl = p.xs_ctl
-                    hist = xs_ctl[XC_HIST]
-                    xs_ctl[XC_HIST] = 0.0
-                    if p.viv_acc is not None:
-                        p.viv_acc[1][...] = p.viv_acc[0]
-                    p.rhs(self.t, *p.rhs_y, *(p.rhs_tail if piece >= 0 else p.rhs_tail_w), piece)
-                    xs_ctl[XC_HIST] = hist
-                    if p.viv_acc is not None:
-                        p.viv_acc[0][...] = p.viv_acc[1]
                 if out is None:
                     out = np.empty(p.shape)
                 if p.take is None:
@@ -531,8 +516,9 @@ class System:
             A, IW = self._implicit()
             return advance_implicit, (self.y, self.t, t_end, self.dtM, A, IW, L, R, P, E, B, motion, W, F, FW,
                                       MAX_NODE_SPEED, True)
+        final = FINAL_LAST_STAGE if self.loads_at == "last_stage" else FINAL_END
         return advance, (self.y, self.t, t_end, self.dtM, int(self.scheme), self.scheme_params, L, R, P, E, B,
-                         motion, W, F, FW, 1.0, self._S, MAX_NODE_SPEED, self.loads_at != "last_stage")
+                         motion, W, F, FW, 1.0, self._S, MAX_NODE_SPEED, final)
 
     def warm_up(self, motion: Motion | None = None) -> None:
         """Compile the time loop of this system now (or load it from numba's cache), without
@@ -625,8 +611,6 @@ class System:
     def _advance_interval(self, motion: Motion, t_end: float) -> None:
         self._motion = motion
         kernel, args = self._advance_call(motion, t_end)
-        W = self.work
-        last_stage = self.loads_at == "last_stage"
         if self.scheme == Scheme.GENALPHA:
             t, status, row, piece = self._call_advance(kernel, args)
             self.t = t
@@ -636,16 +620,12 @@ class System:
                 raise self._newton_failure(t, int(row))
             self._check_grid()
             return
+        # (with loads_at='last_stage' the time loop ends with core.integrate.last_stage_eval)
         t, bad, _, piece = self._call_advance(kernel, args)
         self.t = t
         if bad >= 0:
             raise self._instability(t, int(bad), "")
         self._check_grid()
-        if last_stage:
-            kept = [getattr(W, f).copy() for f in self._STAGE_FIELDS] if piece >= 0 else []
-            self._evaluate(int(piece))
-            for f, a in zip(self._STAGE_FIELDS, kept, strict=False):
-                getattr(W, f)[...] = a
 
     # ------------------------------------------------------------------ save and restart
     def save(self, path, *, meta: dict | None = None) -> Path:

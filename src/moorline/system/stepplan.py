@@ -25,13 +25,8 @@ State written in place (``set_state``, ``set_rod_state``, a checkpoint's arrays,
 another trajectory) leaves the plan valid: the arrays it holds are the ones written.
 
 With ``loads_at='last_stage'`` (MoorDyn's convention, and that of :mod:`moorline.moordyn`) the
-call is followed, as in the general path, by an evaluation at the state reached with the last
-stage's loads kept over it: the general path copies the 11 stage fields out of ``work``, evaluates
-and copies them back; here the evaluation writes them into a second Work sharing every other
-array (the stage fields copied into it first, so the evaluation starts from the same values),
-through a kept entry point of ``rhs``. Same arithmetic, 11 copies instead of 22. Whether a line
-has VIV (whose remembered accelerations the evaluation must not move) is read from the layout
-once, when the plan is made: the layout's arrays are the model's data, fixed when it is built.
+kept call ends, as the general path's does, with the evaluation at the state reached that keeps
+the last stage's loads (``core.integrate.last_stage_eval``, inside the compiled call).
 
 With the implicit GenAlpha scheme the kept call is that of ``core.implicit.advance_implicit``,
 and the plan also holds (and checks) the implicit solver's structure and work, ``_imp``.
@@ -52,9 +47,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.implicit import advance_implicit
-from ..core.integrate import Scheme, advance
+from ..core.integrate import FINAL_END, FINAL_LAST_STAGE, Scheme, advance
 from ..core.jit import compile_for
-from ..core.rhs import rhs
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -110,9 +104,8 @@ class StepPlan:
     it was when the plan was made (the plan still records what it was made for, so that it is made
     again only when that changes)."""
 
-    __slots__ = ("fn", "head", "tail", "cx", "cxd", "tk", "shape", "deck_x", "gather", "take", "idx", "keep",
-                 "rhs", "rhs_y", "rhs_tail", "rhs_tail_w", "xs_ctl", "viv_acc", "bed_ctl", "motion", "implicit",
-                 "imp", "pending",
+    __slots__ = ("fn", "head", "tail", "cx", "cxd", "tk", "shape", "deck_x", "gather", "take", "idx",
+                 "bed_ctl", "motion", "implicit", "imp", "pending",
                  "layout", "L", "R", "P", "E", "B", "F", "work", "fwork", "y", "S", "sp", "dtM", "scheme",
                  "loads_at", "failures", "n_failures")
 
@@ -138,11 +131,11 @@ def make_plan(s: System) -> StepPlan:
                and not any(math.isfinite(ev.failure.tension) for ev in p.pending))
     p.implicit = s.scheme == Scheme.GENALPHA
     # (the implicit steps report the loads at the state reached whatever loads_at says)
-    last_stage = s.loads_at == "last_stage" and not p.implicit
+    final = True if p.implicit else FINAL_LAST_STAGE if s.loads_at == "last_stage" else FINAL_END
     if applies:
         kernel, args = s._advance_call(mo, s.t)  # (first: it may give ``work`` new features)
         if (kernel is (advance_implicit if p.implicit else advance) and args[11] is mo
-                and args[-1] is (not last_stage)):
+                and args[-1] == final):
             fn = compile_for(kernel, args)
             if callable(fn):
                 p.fn = fn
@@ -160,29 +153,6 @@ def make_plan(s: System) -> StepPlan:
     n = lay.n_coupled_dof
     p.shape = (n,)
     p.deck_x = s._deck_x
-    p.keep = p.rhs = None
-    if p.fn is not None and last_stage:
-        # the evaluation at the state reached writes its loads into a second Work that shares every
-        # array with ``work`` but the stage fields: ``work`` keeps the last stage's loads and gets
-        # the rest (positions, velocities, accelerations, ...) of the state reached, as the general
-        # path's copy, evaluation and copy back leave it. The second Work's stage fields are set to
-        # the first's before each evaluation, so that it starts from the same values.
-        W = s.work
-        W2 = W._replace(**{f: np.empty_like(getattr(W, f)) for f in s._STAGE_FIELDS})
-        p.keep = tuple((getattr(W, f), getattr(W2, f)) for f in s._STAGE_FIELDS)
-        L = lay.lines
-        rhs_args = (s.t, s.y, s._dy_eval, L, lay.rigid, lay.points, lay.env, lay.seabed, mo, W2, lay.fl, s.fwork,
-                    1.0, -1)
-        fn = compile_for(rhs, rhs_args)
-        if callable(fn):
-            p.rhs = fn
-            p.rhs_y = (s.y, s._dy_eval)
-            p.rhs_tail = rhs_args[3:-1]  # (L, R, P, E, B, motion, W2, F, FW, 1.0)
-            p.rhs_tail_w = rhs_args[3:9] + (W,) + rhs_args[10:-1]  # the same with ``work`` itself
-            p.xs_ctl = L.xs_ctl
-            p.viv_acc = (W.acc, np.empty_like(W.acc)) if bool(np.any(L.viv[:, 0] > 0)) else None
-        else:
-            p.fn = None
     p.gather = g = ForceGather(s.coupled_slots, s.work, n)
     # one kind of coupled object (the usual case): step() calls its take itself
     p.take, p.idx = (g.segments[0][0].take, g.segments[0][1]) if g.whole else (None, None)
