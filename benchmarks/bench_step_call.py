@@ -34,7 +34,7 @@ trajectory's x and xd computed before timing), in one process, in interleaved ro
 ``--loads-at last_stage`` builds the systems with MoorDyn's convention (that of
 :mod:`moorline.moordyn`): each call then ends with an evaluation at the state reached, over which
 the last stage's loads are kept; since 2026-11-26 (session 8) it runs inside the compiled call
-(``core.integrate.last_stage_eval``), so the "Python side" columns no longer include it, and the
+(``core.integrate.last_stage_keep``), so the "Python side" columns no longer include it, and the
 "end evaluation" columns time it.
 
 Not a test: timings on a shared machine are noisy

@@ -311,7 +311,7 @@ FINAL_END = 1
 FINAL_LAST_STAGE = 2
 
 
-@kernel(inline="always")
+@kernel
 def _keep(a, k, o, back):
     """Copy the C-contiguous array ``a`` into ``k[o:]`` (``back``: from ``k[o:]`` into ``a``);
     returns the offset after it."""
@@ -325,48 +325,44 @@ def _keep(a, k, o, back):
     return o + f.size
 
 
-@kernel(inline="always")
-def _keep_stage_loads(W, back, viv):
-    """The loads a step's last stage leaves in Work (and, with VIV, the accelerations it
-    remembers) into ``W.kept``, or back from it."""
-    k = W.kept
-    o = _keep(W.T, k, 0, back)
-    o = _keep(W.Td, k, o, back)
-    o = _keep(W.seg_len, k, o, back)
-    o = _keep(W.seg_ldot, k, o, back)
-    o = _keep(W.F, k, o, back)
-    o = _keep(W.Fhyd, k, o, back)
-    o = _keep(W.Fbed, k, o, back)
-    o = _keep(W.W, k, o, back)
-    o = _keep(W.kurv, k, o, back)
-    o = _keep(W.pF, k, o, back)
-    o = _keep(W.pa, k, o, back)
-    if viv:
-        _keep(W.acc, k, o, back)
-
-
 @kernel
-def last_stage_eval(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
-    """MoorDyn's convention for the loads after a step (``loads_at='last_stage'``): evaluate at the
-    state reached, so that positions, velocities and everything else in Work describe it, but keep
-    the loads of the step's last stage (line tensions and damping, segment lengths and rates, node
-    forces, curvatures, point forces and accelerations) over the evaluation. ``piece`` < 0 (no
-    step taken): a plain evaluation. The evaluation is not a step: the line-state histories
-    (Syrope) are not updated, and the accelerations VIV remembers stay those of the last stage."""
-    keep = piece >= 0
-    viv = _any_viv(L)
-    if keep:
-        _keep_stage_loads(W, False, False)
+def last_stage_keep(back, kept, xs_ctl, piece, viv, T, Td, seg_len, seg_ldot, Fn, Fhyd, Fbed, Wt, kurv, pF, pa,
+                    acc):
+    """MoorDyn's convention for the loads after a step (``loads_at='last_stage'``): the time loop
+    evaluates at the state reached, so that positions, velocities and everything else in Work
+    describe it, but keeps the loads of the step's last stage over that evaluation: the line
+    tensions and damping (``T``, ``Td``), segment lengths and rates, node forces (``Fn``,
+    ``Fhyd``, ``Fbed``, weight ``Wt``), curvatures, point forces and accelerations. This puts them
+    aside in ``kept`` (Work.kept) before the evaluation, and back after it (``back``).
+    ``piece`` < 0 (no step taken): nothing is kept (a plain evaluation). The evaluation is not a
+    step: the line-state histories (Syrope) are not updated over it (``xs_ctl``), and with
+    ``viv`` the accelerations VIV remembers (``acc``) stay those of the last stage.
+
+    The evaluation itself is the time loop's own call of ``rhs_call`` (one call site: a kernel of
+    its own calling it would be compiled with the derivative's closure linked in and optimised
+    once more for it, some 8 s of CPU in a first run). Arrays only and nothing inlined: a kernel
+    taking Work (70 arrays) or inlining a dozen helpers takes seconds to compile, and this one is
+    compiled for every system, whatever its ``loads_at``."""
+    if piece >= 0:
+        o = _keep(T, kept, 0, back)
+        o = _keep(Td, kept, o, back)
+        o = _keep(seg_len, kept, o, back)
+        o = _keep(seg_ldot, kept, o, back)
+        o = _keep(Fn, kept, o, back)
+        o = _keep(Fhyd, kept, o, back)
+        o = _keep(Fbed, kept, o, back)
+        o = _keep(Wt, kept, o, back)
+        o = _keep(kurv, kept, o, back)
+        o = _keep(pF, kept, o, back)
+        _keep(pa, kept, o, back)
+    o = kept.size - acc.size
     if viv:
-        _keep(W.acc, W.kept, W.kept.size - W.acc.size, False)
-    hist = L.xs_ctl[XC_HIST]
-    L.xs_ctl[XC_HIST] = 0.0
-    rhs_call(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
-    L.xs_ctl[XC_HIST] = hist
-    if keep:
-        _keep_stage_loads(W, True, False)
-    if viv:
-        _keep(W.acc, W.kept, W.kept.size - W.acc.size, True)
+        _keep(acc, kept, o, back)
+    if back:
+        xs_ctl[XC_HIST] = kept[o - 1]
+    else:
+        kept[o - 1] = xs_ctl[XC_HIST]
+        xs_ctl[XC_HIST] = 0.0
 
 
 @kernel
@@ -375,7 +371,7 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale,
     (:data:`FINAL_END`): evaluate all loads once more at the final state (on the last step's
     trajectory piece) so that the Work arrays describe the state at ``t_end``;
     :data:`FINAL_LAST_STAGE`: the same but with the last stage's loads kept
-    (:func:`last_stage_eval`); :data:`FINAL_NONE`: no evaluation.
+    (:func:`last_stage_keep`); :data:`FINAL_NONE`: no evaluation.
 
     Returns
     -------
@@ -401,8 +397,13 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale,
         bad = check_state(y, vmax, R.dims[0], R.dims[1])
         if bad >= 0:
             return t, bad, n_steps, piece
-    if final_eval == FINAL_END:
+    if final_eval == FINAL_LAST_STAGE:
+        viv = _any_viv(L)
+        last_stage_keep(False, W.kept, L.xs_ctl, piece, viv, W.T, W.Td, W.seg_len, W.seg_ldot, W.F, W.Fhyd, W.Fbed,
+                        W.W, W.kurv, W.pF, W.pa, W.acc)
+    if final_eval != FINAL_NONE:
         rhs_call(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
-    elif final_eval == FINAL_LAST_STAGE:
-        last_stage_eval(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+    if final_eval == FINAL_LAST_STAGE:
+        last_stage_keep(True, W.kept, L.xs_ctl, piece, viv, W.T, W.Td, W.seg_len, W.seg_ldot, W.F, W.Fhyd, W.Fbed,
+                        W.W, W.kurv, W.pF, W.pa, W.acc)
     return t, -1, n_steps, piece

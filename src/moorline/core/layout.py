@@ -274,8 +274,9 @@ class Work(NamedTuple):
     dphi: np.ndarray  # (n_nodes,) its rate [rad/s]
     Flift: np.ndarray  # (n_nodes, 3) VIV lift force [N]
     acc_old: np.ndarray  # (n_nodes, 3) node accelerations of the previous evaluation (VIV)
-    kept: np.ndarray  # (8 n_seg + 16 n_nodes + 6 n_points,) the loads MoorDyn's convention keeps over
-    #                   the evaluation at a step's end (core.integrate.last_stage_eval)
+    kept: np.ndarray  # (8 n_seg + 16 n_nodes + 6 n_points + 1,) the loads MoorDyn's convention keeps
+    #                   over the evaluation at a step's end (core.integrate.last_stage_keep), then the
+    #                   line states' history flag, then (VIV) the accelerations
 
 
 # ------------------------------------------------------------------------ floating bodies
@@ -520,7 +521,7 @@ class Layout:
                     pa=z((npnt, 3)), pF=z((npnt, 3)), pM=z((npnt, 3, 3)), pU=z((npnt, 3)), xc=z(nc), vc=z(nc),
                     ac=z(nc), m33=z((5, 3, 3)), v6=z((3, 6)), dense=z((6, 7)), seg_s=z(ns), seg_sdot=z(ns),
                     phi=z(nn), dphi=z(nn), Flift=z((nn, 3)), acc_old=z((nn, 3)),
-                    kept=z(8 * ns + 16 * nn + 6 * npnt))
+                    kept=z(8 * ns + 16 * nn + 6 * npnt + 1))
 
     def new_float_work(self) -> FloatWork:
         return new_float_work(self.fl)

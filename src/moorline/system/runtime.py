@@ -620,7 +620,7 @@ class System:
                 raise self._newton_failure(t, int(row))
             self._check_grid()
             return
-        # (with loads_at='last_stage' the time loop ends with core.integrate.last_stage_eval)
+        # (with loads_at='last_stage' the time loop ends with core.integrate.last_stage_keep)
         t, bad, _, piece = self._call_advance(kernel, args)
         self.t = t
         if bad >= 0:

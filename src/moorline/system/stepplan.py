@@ -26,7 +26,7 @@ another trajectory) leaves the plan valid: the arrays it holds are the ones writ
 
 With ``loads_at='last_stage'`` (MoorDyn's convention, and that of :mod:`moorline.moordyn`) the
 kept call ends, as the general path's does, with the evaluation at the state reached that keeps
-the last stage's loads (``core.integrate.last_stage_eval``, inside the compiled call).
+the last stage's loads (``core.integrate.last_stage_keep``, inside the compiled call).
 
 With the implicit GenAlpha scheme the kept call is that of ``core.implicit.advance_implicit``,
 and the plan also holds (and checks) the implicit solver's structure and work, ``_imp``.
