@@ -271,30 +271,42 @@ class StaticEval:
         self.uoff = 3 * self.n3 + 7 * self.n6
         self.R = R
         self.nt = (L, R, P, E, B, Mo, W, F, FW)
+        # the compiled entry points, called directly: a dispatcher's call types its NamedTuple
+        # arguments in Python first, some microseconds per call
         self.rhs = compile_for(rhs_call, (0.0, y, IW.f0, *self.nt, 1.0, np.int64(-1)))
+        n3, n6 = self.n3, self.n6
+        self.velocities = compile_for(_static_velocities, (y, R))
+        self.res = compile_for(_static_residual, (IW, self.uoff))
+        self.fd_steps = compile_for(fd_steps, (IW, n3, n6, 1e-7, 1.0))
+        self.clear = compile_for(clear, (IW,))
+        self.state = compile_for(_colour_state, (A, IW, y, 0, 0, n3, n6))
+        self.columns = compile_for(_colour_columns, (A, IW, self.uoff, 0, 0, 1.0))
+        self.factor = compile_for(_static_factor, (A, IW, y))
 
     def residual(self) -> tuple[float, float]:
         """f at the positions of ``y`` with zero velocities (line states kept) into IW.f0 and -f's
         accelerations into IW.G. Returns (max |acc|, L2 norm)."""
         y, IW = self.y, self.IW
-        _static_velocities(y, self.R)
+        self.velocities(y, self.R)
         self.rhs(0.0, y, IW.f0, *self.nt, 1.0, np.int64(-1))
-        return _static_residual(IW, self.uoff)
+        return self.res(IW, self.uoff)
 
     def jacobian(self, diag: float) -> int:
         """J = diag I - df/dx at IW.y0, factored (IW.f0 must hold f at IW.y0; ``y`` is left at
         IW.y0). Returns LU's status (0 factored)."""
-        y, A, IW, n3, n6 = self.y, self.A, self.IW, self.n3, self.n6
-        fd_steps(IW, n3, n6, 1e-7, 1.0)
-        clear(IW)
+        y, A, IW, n3, n6, uoff = self.y, self.A, self.IW, self.n3, self.n6, self.uoff
+        self.fd_steps(IW, n3, n6, 1e-7, 1.0)
+        self.clear(IW)
         kmax = 6 if n6 > 0 else 3
-        rhs, nt, f1 = self.rhs, self.nt, IW.f1
+        rhs, nt, f1, state, columns = self.rhs, self.nt, IW.f1, self.state, self.columns
+        piece = np.int64(-1)
+        diag = float(diag)
         for cu in range(A.col_ptr.size - 1):
             for k in range(kmax):
-                if _colour_state(A, IW, y, cu, k, n3, n6):
-                    rhs(0.0, y, f1, *nt, 1.0, np.int64(-1))
-                    _colour_columns(A, IW, self.uoff, cu, k, diag)
-        return int(_static_factor(A, IW, y))
+                if state(A, IW, y, cu, k, n3, n6):
+                    rhs(0.0, y, f1, *nt, 1.0, piece)
+                    columns(A, IW, uoff, cu, k, diag)
+        return int(self.factor(A, IW, y))
 
 
 def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter, min_growth=1.0):
