@@ -66,6 +66,15 @@ def _move_along(y, dy, n3, n6, h):
 
 
 @kernel
+def at_rest(y, R):
+    """The statics' state: velocities (of nodes, points, rods and bodies) and radiation states
+    zero; the line states after them (Syrope slow strain: history) are kept."""
+    uoff = 3 * R.dims[0] + 7 * R.dims[1]
+    for i in range(uoff, xs_offset(R)):
+        y[i] = 0.0
+
+
+@kernel
 def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E, B, Mo, W, F, FW, S):
     """MoorDyn's stationary initial-condition solver (spec 6.3): pseudo-time steps along the
     accelerations with all velocities held at zero (6-DOF objects also turn along their angular
@@ -91,10 +100,7 @@ def stationary_solve(y, dtM, dtIC, TmaxIC, threshIC, cfl_ic, seg_min, L, R, P, E
         return 1, 0.0, 0.0, 0
     dy = S[0]
     qprev = S[1]
-    # at rest: velocities and radiation states zero; the line states (Syrope slow strain: history)
-    # are kept
-    for i in range(uoff, xs_offset(R)):
-        y[i] = 0.0
+    at_rest(y, R)
     b = 1.0
     t = 0.0
     e0 = -1.0
@@ -196,15 +202,6 @@ def dynamic_relaxation(y, dtM, scheme, sp, dtIC, TmaxIC, threshIC, cd_scale, L, 
 
 # ---------------------------------------------------------------------------------------------- Newton statics
 @kernel
-def _static_velocities(y, R):
-    """Newton statics' state: zero velocities of nodes, points, rods and bodies (the line states
-    after them are kept, see stationary_solve)."""
-    uoff = 3 * R.dims[0] + 7 * R.dims[1]
-    for i in range(uoff, xs_offset(R)):
-        y[i] = 0.0
-
-
-@kernel
 def _static_residual(IW, uoff):
     """After an evaluation into IW.f0: -f's accelerations into IW.G, the evaluation counted.
     Returns (max |acc|, L2 norm); inf for a non-finite one."""
@@ -275,7 +272,7 @@ class StaticEval:
         # arguments in Python first, some microseconds per call
         self.rhs = compile_for(rhs_call, (0.0, y, IW.f0, *self.nt, 1.0, np.int64(-1)))
         n3, n6 = self.n3, self.n6
-        self.velocities = compile_for(_static_velocities, (y, R))
+        self.velocities = compile_for(at_rest, (y, R))
         self.res = compile_for(_static_residual, (IW, self.uoff))
         self.fd_steps = compile_for(fd_steps, (IW, n3, n6, 1e-7, 1.0))
         self.clear = compile_for(clear, (IW,))
