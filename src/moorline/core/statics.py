@@ -6,9 +6,11 @@ quasi-static line model is :mod:`moorline.quasistatic`.
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
+from numba import typeof
 
 from .integrate import FINAL_END, advance
 from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
@@ -280,6 +282,22 @@ class StaticEval:
         self.columns = compile_for(_colour_columns, (A, IW, self.uoff, 0, 0, 1.0))
         self.factor = compile_for(_static_factor, (A, IW, y))
 
+    def with_env(self, E) -> StaticEval:
+        """The same evaluations in the environment ``E`` instead, with the compiled entry points
+        kept: looking them up types every NamedTuple of arrays again, 3-4 ms a time, which a
+        continuation of several Newton solves (:func:`moorline.system.initial.newton_ic`) paid
+        on every one. ``E`` must have the type of the environment given (a ``_replace`` of it
+        with values of the same types, such as a softened seabed), which is checked."""
+        L, R, P, E0, B, Mo, W, F, FW = self.nt
+        if E is E0:
+            return self
+        if typeof(E) != typeof(E0):
+            raise TypeError("StaticEval.with_env: the environment's numba type differs from the one the entry "
+                            "points were compiled for")
+        other = copy.copy(self)
+        other.nt = (L, R, P, E, B, Mo, W, F, FW)
+        return other
+
     def residual(self) -> tuple[float, float]:
         """f at the positions of ``y`` with zero velocities (line states kept) into IW.f0 and -f's
         accelerations into IW.G. Returns (max |acc|, L2 norm)."""
@@ -306,7 +324,8 @@ class StaticEval:
         return int(self.factor(A, IW, y))
 
 
-def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter, min_growth=1.0):
+def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter, min_growth=1.0,
+                   ev: StaticEval | None = None):
     """Static equilibrium by pseudo-transient continuation of Newton's method: each iteration
     solves (I / tau^2 - df/dx) dx = f(x) at zero velocities, with tau^2 grown by the ratio of
     successive residual norms (switched evolution relaxation) so the iterations start as heavily
@@ -321,6 +340,9 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
     nothing that counts, while a compiled loop cost a first run some 13 s of compile time (the
     derivative's closure optimised once more for it).
 
+    ``ev``: the :class:`StaticEval` of these arrays, when the caller keeps one over several solves
+    (made here otherwise).
+
     Returns
     -------
     status : int
@@ -332,7 +354,8 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
     """
     n3 = int(R.dims[0])
     n6 = int(R.dims[1])
-    ev = StaticEval(y, A, IW, L, R, P, E, B, Mo, W, F, FW)
+    if ev is None:
+        ev = StaticEval(y, A, IW, L, R, P, E, B, Mo, W, F, FW)
     residual = ev.residual
     jacobian = ev.jacobian
 

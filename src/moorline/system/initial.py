@@ -40,7 +40,7 @@ from ..core.linestates import (
 from ..core.rhs import rhs
 from ..core.rigid import body_kinematics, body_point_kinematics, rod_kinematics, rod_nodes
 from ..core.seabed import resting_penetration, seabed_at
-from ..core.statics import dynamic_relaxation, newton_statics, stationary_solve
+from ..core.statics import StaticEval, dynamic_relaxation, newton_statics, stationary_solve
 from ..errors import SimulationError
 from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
 
@@ -425,9 +425,12 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     sink_into_seabed(sys, E)
     first = NEWTON_FIRST_IT if sys.scheme == Scheme.GENALPHA else NEWTON_FIRST_IT_EXPLICIT
 
+    # the compiled evaluations, looked up once for every solve below (softened seabeds included)
+    ev = StaticEval(sys.y, A, IW, L, R, P, E, B, sys._motion, W, F, FW)
+
     def newton(env, tau0, max_it, acc_tol=NEWTON_ACC_TOL, dx_tol=NEWTON_DX_TOL):
         return newton_statics(sys.y, A, IW, L, R, P, env, B, sys._motion, W, F, FW, float(tau0),
-                              acc_tol, dx_tol, max_it, NEWTON_GROWTH)
+                              acc_tol, dx_tol, max_it, NEWTON_GROWTH, ev=ev.with_env(env))
 
     status, it, resid = newton(E, opts.dtIC, first)
     relax = 0.0
