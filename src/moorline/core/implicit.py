@@ -71,7 +71,7 @@ from .jacobian import (
     contact_moved,
     contact_terms,
     dependency_graph,
-    newmark,
+    newmark_radiation,
     refactor,
     solve_increment,
     step_jacobian,
@@ -211,7 +211,7 @@ def _residual(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     n3 = R.dims[0]
     n6 = R.dims[1]
     uoff = 3 * n3 + 7 * n6
-    newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
+    newmark_radiation(IW.y0, IW.a0, IW.a1, h, par, y, R, W, F, FW, IW.G)
     rhs_call(t + h, y, IW.f0, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
     IW.stat[S_NRHS] += 1
     am = par[0]
@@ -374,7 +374,7 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
         else:
             conv = theta < 1.0 and theta * big <= (1.0 - theta) * tol
         if conv or big <= 1e-3 * tol:
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, IW.G)
+            newmark_radiation(IW.y0, IW.a0, IW.a1, h, par, y, R, W, F, FW, IW.G)
             if nx > 0:
                 # the line states at the end of the step: one evaluation there (condensed stretch,
                 # VIV phase rates), then the Syrope history

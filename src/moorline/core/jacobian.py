@@ -26,6 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .features import FLOATING, when
 from .floating import radiation_trapezoid
 from .jit import kernel
 from .layout import ATT_POINT, P_BODY, P_FREE, Layout
@@ -349,9 +350,9 @@ def displace(y0, dq, y, n3, n6, cq):
 
 @kernel
 def newmark(y0, a0, a1, h, par, y1, R, F, FW, G):
-    """End-of-step state ``y1`` from (y0, a0, a1), with the radiation states of floating bodies
-    advanced over the step (:func:`~moorline.core.floating.radiation_trapezoid`); ``G`` is scratch
-    for the position increments."""
+    """End-of-step state ``y1`` from (y0, a0, a1); ``G`` is scratch for the position increments.
+    The radiation states of floating bodies are advanced over the step by the caller
+    (:func:`newmark_radiation`)."""
     n3 = R.dims[0]
     n6 = R.dims[1]
     beta = par[2]
@@ -362,8 +363,16 @@ def newmark(y0, a0, a1, h, par, y1, R, F, FW, G):
         G[i] = h * y0[uoff + i] + h * h * ((0.5 - beta) * a0[i] + beta * a1[i])
         y1[uoff + i] = y0[uoff + i] + h * ((1.0 - gamma) * a0[i] + gamma * a1[i])
     displace(y0, G, y1, n3, n6, 1.0)
+
+
+@kernel(inline="always")
+def newmark_radiation(y0, a0, a1, h, par, y1, R, W, F, FW, G):
+    """:func:`newmark`, then the radiation states of floating bodies advanced over the step
+    (:func:`~moorline.core.floating.radiation_trapezoid`, compiled only for systems with floating
+    bodies: the others pass their kernels none of its arrays, core.features.NoFloating)."""
+    newmark(y0, a0, a1, h, par, y1, R, F, FW, G)
     if R.dims[2] > 0:
-        radiation_trapezoid(y0, y1, h, R, F, FW)
+        when(W, FLOATING, radiation_trapezoid, (y0, y1, h, R, F, FW))
 
 
 @kernel(inline="always")
@@ -569,7 +578,7 @@ def step_jacobian(t, h, y, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
         for k in range(kmax):
             if not shift_colour(A, cu, k, IW.a1, IW.eps, 1.0):
                 continue
-            newmark(IW.y0, IW.a0, IW.a1, h, par, y, R, F, FW, scratch)
+            newmark_radiation(IW.y0, IW.a0, IW.a1, h, par, y, R, W, F, FW, scratch)
             rhs_call(t + h, y, f1, L, R, P, E, B, Mo, W, F, FW, par[8], piece)
             IW.stat[S_NRHS] += 1
             shift_colour(A, cu, k, IW.a1, IW.eps, -1.0)

@@ -295,7 +295,7 @@ def solve_initial_conditions(sys: System) -> None:
             # the line states at rest in the final positions (and the Syrope history there)
             dy = sys._S[0]
             L_, R, P, _, B, W, F, FW = sys._kernel_arrays()
-            rhs(0.0, sys.y, dy, L_, R, P, sys.layout.env_ic, B, sys._motion, W, F, FW, 1.0, -1)
+            rhs(0.0, sys.y, dy, L_, R, P, sys._kernel_env_ic(), B, sys._motion, W, F, FW, 1.0, -1)
             store_line_states(sys.y, L, R, W, 0.0, True)
         end_line_states(L)
         L.xs_ctl[XC_VIV] = 1.0
@@ -331,7 +331,7 @@ def report_residual(sys: System) -> float:
     L.xs_ctl[XC_HIST] = 0.0
     L.xs_ctl[XC_VIV] = 0.0
     try:
-        rhs(0.0, y, dy, L, R, P, lay.env_ic, B, sys._motion, W, F, FW, 1.0, -1)
+        rhs(0.0, y, dy, L, R, P, sys._kernel_env_ic(), B, sys._motion, W, F, FW, 1.0, -1)
     finally:
         L.xs_ctl[XC_HIST] = hist
         L.xs_ctl[XC_VIV] = viv
@@ -355,7 +355,7 @@ def report_residual(sys: System) -> float:
 def _solve_initial_conditions(sys: System) -> None:
     opts = sys.model.options
     L, R, P, _, B, W, F, FW = sys._kernel_arrays()
-    E = sys.layout.env_ic  # waves off, current on (spec 6.1)
+    E = sys._kernel_env_ic()  # waves off, current on (spec 6.1)
     # Newton when asked for, and by default with the implicit scheme or floating bodies (a hull on its
     # hydrostatics is a stiff, lightly damped system that MoorDyn's pseudo-dynamics settle slowly)
     if _newton_first(sys) and newton_ic(sys, L, R, P, E, B, W, F, FW):
@@ -571,7 +571,7 @@ def quasistatic_equilibrium(sys: System, *, tol: float = 1e-7, max_outer: int = 
     the lines' load linearised at their pose, re-linearised until the poses change by less than
     ``tol`` [m, rad]. Fills ``sys.ic_report``."""
     L, R, P, _, B, W, F, FW = sys._kernel_arrays()
-    E = sys.layout.env_ic
+    E = sys._kernel_env_ic()
     last = None
     outer = 0
     for outer in range(1, max_outer + 1):

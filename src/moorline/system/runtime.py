@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.features import features_of
+from ..core.features import features_of, kernel_env, kernel_parts
 from ..core.floating import floating_restart
 from ..core.implicit import advance_implicit, build_implicit, new_implicit_work
 from ..core.integrate import FINAL_END, FINAL_LAST_STAGE, RHO_INF, Scheme, advance, parse_scheme
@@ -38,7 +38,15 @@ from ..core.jacobian import (
     S_NSTEP,
 )
 from ..core.jit import FastCall, compile_for
-from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
+from ..core.layout import (
+    P_FREE,
+    Motion,
+    build_layout,
+    quat_between,
+    quat_from_matrix,
+    static_motion,
+    step_motion,
+)
 from ..core.linestates import XC_DTM, XC_HIST
 from ..core.rhs import rhs
 from ..core.schemes import SP_STEPS
@@ -228,16 +236,32 @@ class System:
         """(lines, rods, points, env, seabed, work, floating, floating work): what every kernel call
         takes. ``work.features`` is brought up to date first when the layout or the scheme were
         replaced since (the kernels are compiled without the code of the features they lack, see
-        :mod:`moorline.core.features`)."""
+        :mod:`moorline.core.features`), and the rods, floating bodies, water kinematics and wave
+        excitation of a system without them are passed without their (empty) arrays
+        (:func:`moorline.core.features.kernel_parts`, :func:`~moorline.core.features.kernel_env`)."""
         lay = self.layout
-        key = (id(lay.lines), id(lay.rigid), id(lay.env), id(lay.env_ic), id(lay.fl), int(self.scheme))
+        key = (id(lay.lines), id(lay.rigid), id(lay.env), id(lay.env_ic), id(lay.fl), id(self.fwork),
+               int(self.scheme))
         if key != self._features_key:
             f = features_of(lay, self.scheme)
             if f != self.work.features:
                 self.work = self.work._replace(features=f)
                 self._drop_step_plan()
             self._features_key = key
-        return lay.lines, lay.rigid, lay.points, lay.env, lay.seabed, self.work, lay.fl, self.fwork
+            # (held, so that no id of the key can be taken by another object while it is the key)
+            self._features_refs = (lay.lines, lay.rigid, lay.env, lay.env_ic, lay.fl, self.fwork)
+            # the rods' and floating bodies' arrays are left out for a system without them (numba
+            # unboxes every array of every call, empty or not: core.features.NoRigid)
+            self._kernel_rff = kernel_parts(f, lay.rigid, lay.fl, self.fwork)
+            self._kernel_envs = (kernel_env(f, lay.env), kernel_env(f, lay.env_ic))
+        R, F, FW = self._kernel_rff
+        return lay.lines, R, lay.points, self._kernel_envs[0], lay.seabed, self.work, F, FW
+
+    def _kernel_env_ic(self):
+        """The environment of the initial conditions (waves off) as the kernels take it (see
+        :meth:`_kernel_arrays`)."""
+        self._kernel_arrays()
+        return self._kernel_envs[1]
 
     def _evaluate(self, piece: int = -1) -> None:
         """Evaluate every load at the current state and time (refreshes what the views report).
