@@ -123,13 +123,13 @@ def features_of(layout, scheme: int | None = None) -> Features:
     return Features.of(*names)
 
 
-
 # ----------------------------------------------------------------------- what the kernels are passed
 class NoRigid(NamedTuple):
     """The :class:`~moorline.core.layout.RigidArrays` of a system without rods or bodies, as its
     kernels take them: the fields read by code outside the RIGID feature, whose code is not
-    compiled for such a system. Every array of every argument is unboxed by numba on every call
-    from Python, some 30-40 ns each here, whether empty or not (26 more empty arrays here).
+    compiled for such a system. numba unboxes every array of every argument of a call from
+    Python, some 30-40 ns each on the reference machine, whether empty or not: this leaves out
+    26 empty ones (benchmarks/RESULTS.md section 6, session 9).
 
     Every ``No*`` tuple ends with ``absent`` (True), a field of another type than the others: a
     NamedTuple whose fields all have one type is numba's homogeneous ``NamedUniTuple``, an LLVM
