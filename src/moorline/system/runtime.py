@@ -38,15 +38,7 @@ from ..core.jacobian import (
     S_NSTEP,
 )
 from ..core.jit import FastCall, compile_for
-from ..core.layout import (
-    P_FREE,
-    Motion,
-    build_layout,
-    quat_between,
-    quat_from_matrix,
-    static_motion,
-    step_motion,
-)
+from ..core.layout import P_FREE, Motion, build_layout, quat_between, quat_from_matrix, static_motion, step_motion
 from ..core.linestates import XC_DTM, XC_HIST
 from ..core.rhs import rhs
 from ..core.schemes import SP_STEPS
