@@ -32,7 +32,8 @@ import moorline
 from moorline.core import features as F
 from moorline.core import lines as core_lines
 from moorline.core.features import RIGID, when
-from moorline.core.jit import KERNEL_OPTIONS, SAFE_FASTMATH, overlap_checks
+from moorline.core.jit import KERNEL_OPTIONS, SAFE_FASTMATH, derivative_kernel, overlap_checks
+from moorline.core.jit import kernel as make_kernel
 from moorline.core.lines import line_bending
 from moorline.core.rhs import set_water
 from moorline.core.rigid import rigid_dynamics, rod_loads
@@ -84,6 +85,45 @@ def test_nrt_false_removes_reference_counting():
         "numba's default compilation no longer reference counts here: this test cannot tell the option's effect"
     assert not refcounts.search(_compiled_llvm(without_cache)), \
         "_nrt=False no longer removes the reference counting: numba changed its private option"
+
+
+def _plain_sum(a):
+    return a[0] * 3.0 + a[1] * 2.0 + a[2]
+
+
+_flag_callee = None
+
+
+def _fast_caller(a):
+    return _flag_callee(a) + 1.0
+
+
+def _flags_met_first_by_a_fast_caller(options) -> str:
+    """LLVM of a callee made with ``options`` when a fast-math, forceinline caller is the first to
+    compile it."""
+    global _flag_callee
+    _flag_callee = njit(**{**options, "cache": False})(_plain_sum)
+    caller = njit(**{**KERNEL_OPTIONS, "cache": False, "fastmath": set(SAFE_FASTMATH), "forceinline": True})(
+        _fast_caller)
+    assert caller(np.ones(3)) == 7.0
+    (llvm,) = _flag_callee.inspect_llvm().values()
+    return llvm
+
+
+def test_a_kernel_has_its_own_flags_whoever_compiles_it_first():
+    """numba gives a function that leaves fastmath or forceinline unset the flags of the function
+    being compiled when it first meets it; a kernel sets both, so its code does not depend on its
+    first caller (core.jit.kernel)."""
+    disp = make_kernel(_plain_sum)
+    assert disp.targetoptions["fastmath"] is False and disp.targetoptions["forceinline"] is False
+    options = {k: v for k, v in disp.targetoptions.items() if k not in ("nopython", "boundscheck")}
+    llvm = _flags_met_first_by_a_fast_caller(options)
+    assert "reassoc" not in llvm and "alwaysinline" not in llvm
+    # without them, numba's inheritance shows (else this test could not tell)
+    llvm = _flags_met_first_by_a_fast_caller({k: v for k, v in options.items() if k not in ("fastmath", "forceinline")})
+    assert "reassoc" in llvm and "alwaysinline" in llvm
+    fast = derivative_kernel(_plain_sum)
+    assert fast.targetoptions["fastmath"] == set(SAFE_FASTMATH) and fast.targetoptions["forceinline"] is True
 
 
 def _scaled_ratio(a):

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 
-from .jit import kernel
+from .jit import derivative_kernel, kernel
 from .layout import (
     CTL_QS_MOORING,
     CTL_RADIATION,
@@ -56,7 +56,7 @@ from .waterkin import _ramp, fluid_at
 
 
 # ------------------------------------------------------------------------------------ small algebra
-@kernel
+@derivative_kernel
 def rel_angles(Rm, R0, out, o):
     """Roll, pitch, yaw of Rm R0^T (the rotation from the mean orientation, global axes,
     Rx Ry Rz) into out[o:o+3]."""
@@ -70,7 +70,7 @@ def rel_angles(Rm, R0, out, o):
     out[o + 2] = math.atan2(-r01, r00)
 
 
-@kernel
+@derivative_kernel
 def _excitation(t, X, f, out):
     """Excitation force and moment of floating body ``f`` at time ``t`` into out (6,)."""
     mode = X.ctl[0]
@@ -108,7 +108,7 @@ def _excitation(t, X, f, out):
         out[d] *= r
 
 
-@kernel
+@derivative_kernel
 def _convolution(t, F, fw, f, out):
     """Radiation memory force on floating body ``f`` by convolution of the impulse response with
     the velocity history (trapezoidal rule; the newest interval ends at the current velocity)."""
@@ -153,7 +153,7 @@ def _convolution(t, F, fw, f, out):
 
 
 # ------------------------------------------------------------------------------------ loads
-@kernel
+@derivative_kernel
 def floating_loads(t, y, dy, R, E, W, F, FW):
     """Potential-flow, extra and PTO loads of every floating body into W.b6F (A_inf into W.b6M),
     their components into FW.F, and the derivatives of the state-space radiation states."""
@@ -312,7 +312,7 @@ def floating_loads(t, y, dy, R, E, W, F, FW):
                 W.b6M[i, a, b] += F.Ainf[6 * f + a, 6 * f + b]
 
 
-@kernel
+@derivative_kernel
 def _joint_axis(F, W, jn):
     """Global slide direction e and the vector d from the parent's reference point to the
     child's (zero for a fixed axis)."""
@@ -341,7 +341,7 @@ def _relative_velocity(W, ci, pi, dx, dy, dz):
             W.bv[ci, 2] - W.bv[pi, 2] - (wx * dy - wy * dx))
 
 
-@kernel
+@derivative_kernel
 def joint_state(F, FW, W, jn):
     """Slide s [m] and its rate [m/s] of joint ``jn`` from the body kinematics in W, into
     FW.jt[jn, 0:2]."""
@@ -364,7 +364,7 @@ def joint_state(F, FW, W, jn):
 
 
 # ------------------------------------------------------------------------------------ group motion
-@kernel
+@derivative_kernel
 def floating_motion(R, W, F, FW):
     """Accelerations of the bodies of every group with several members or a joint (one solve per
     group, in reduced coordinates when it has joints) into W.bacc; single bodies are left to the
@@ -501,7 +501,7 @@ def floating_motion(R, W, F, FW):
             W.bacc[ci, a] -= wc * wc * e[a] + 2.0 * wc * e[6 + a]
 
 
-@kernel
+@derivative_kernel
 def _joint_violation(F, FW, W, jn, out):
     """How far the child of joint ``jn`` is off its joint: position and rotation-vector errors
     (out[0:6]) and velocity and angular-velocity errors (out[6:12]), from the body kinematics in W."""

@@ -102,6 +102,14 @@ def kernel(fn=None, *, inline: str = "never", fastmath: bool = False, forceinlin
         by one, about 0.65 us per evaluation, and LLVM's heuristic stops inlining it as soon as it
         grows a little (benchmarks/RESULTS.md section 6).
 
+    Both flags are always passed to numba, False included. numba compiles a function that leaves
+    one of them unset with the value of the function being compiled when it first meets it
+    (``Flags.inherit_if_not_set``), and its cache keeps that compilation: a kernel's fast-math
+    and inlining then depended on which caller compiled it first, in this process or in whichever
+    process filled the cache (the floating bodies' kernels compiled from Python before the
+    derivative did were compiled without them, and changed results in the last bit). See
+    :func:`derivative_kernel`.
+
     Returns
     -------
     numba dispatcher, or a decorator when ``fn`` is None.
@@ -109,13 +117,23 @@ def kernel(fn=None, *, inline: str = "never", fastmath: bool = False, forceinlin
     opts = dict(KERNEL_OPTIONS)
     if inline != "never":
         opts["inline"] = inline
-    if fastmath:
-        opts["fastmath"] = set(SAFE_FASTMATH)
-    if forceinline:
-        opts["forceinline"] = True
+    opts["fastmath"] = set(SAFE_FASTMATH) if fastmath else False
+    opts["forceinline"] = bool(forceinline)
     if fn is None:
         return njit(**opts)
     return njit(**opts)(fn)
+
+
+def derivative_kernel(fn):
+    """A kernel of the derivative (``core.rhs.rhs`` and the kernels it calls, down to the water
+    kinematics, rods, bodies, floating bodies and seabed forces): :data:`SAFE_FASTMATH` and
+    ``forceinline``, so that the derivative is one function with no calls (each non-inlined call
+    passes its tuples' arrays one by one). These are the flags numba gave them before they were
+    set explicitly, when the derivative compiled them first, as it does in a run that starts with
+    its initial conditions (:func:`kernel` on why they are explicit). A kernel the derivative
+    calls that other code compiled first then (``seabed.seabed_at``, called from Python by the
+    initial conditions, ``seabed.contact_slope``) keeps plain :func:`kernel`, as it had."""
+    return kernel(fn, fastmath=True, forceinline=True)
 
 
 def compile_for(dispatcher, args):

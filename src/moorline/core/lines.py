@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from .features import BENDING, LINE_STATES, STICKSLIP, either, when
-from .jit import kernel, vector_kernel
+from .jit import derivative_kernel, kernel, vector_kernel
 from .layout import ATT_ROD_A, ATT_ROD_B
 from .linestates import VIS_ELASTIC, segment_axial
 from .numerics import bracket, unit3
@@ -22,7 +22,7 @@ from .seabed import FRIC_STICKSLIP, seabed_at, seabed_force, seabed_force_sticks
 _EPS = 1e-12
 
 
-@kernel
+@derivative_kernel
 def table_interp(x, y, start, n, v):
     """Piecewise-linear interpolation in ``x[start:start+n]``, clamped at both ends."""
     if v <= x[start]:
@@ -35,7 +35,7 @@ def table_interp(x, y, start, n, v):
     return y[lo] + f * (y[lo + 1] - y[lo])
 
 
-@kernel
+@derivative_kernel
 def segment_wet_fraction(r, a, b, zeta_a, zeta_b, d):
     """Submerged fraction of the segment between nodes ``a`` and ``b`` of ``r`` (spec 3.6)."""
     zs = 0.5 * (zeta_a + zeta_b)
@@ -377,7 +377,7 @@ def end_tangent(L, W, li, j):
     return sgn * W.rodq[r, 0], sgn * W.rodq[r, 1], sgn * W.rodq[r, 2]
 
 
-@kernel
+@derivative_kernel
 def _kappa(lam, ax, ay, az, bx, by, bz):
     """Curvature (4/lam) sin(theta/2) between unit vectors a and b over length lam, and the unit
     bending axis a x b (zero when a and b are parallel)."""
@@ -390,7 +390,7 @@ def _kappa(lam, ax, ay, az, bx, by, bz):
     return kap, px, py, pz
 
 
-@kernel
+@derivative_kernel
 def line_bending(L, W):
     """Curvature at every node of every line and, for lines with bending stiffness, the bending
     forces: at each bent node a self-equilibrated triple of forces on the node and its two
@@ -497,7 +497,7 @@ def line_bending(L, W):
             end_moment[li, j, 2] = sgn * m * pz
 
 
-@kernel
+@derivative_kernel
 def add_end_mass(M, p, m, ma, mq, q, n):
     """Add the mass matrix m I + ma (I - q q^T) + mq q q^T of a line end node (tangent ``q[n]``)
     to point ``p``."""
@@ -510,7 +510,7 @@ def add_end_mass(M, p, m, ma, mq, q, n):
             M[p, a, b] += val
 
 
-@kernel
+@derivative_kernel
 def solve3(M, p, f, out):
     """Solve the 3x3 system M[p] x = f[p] (Cramer's rule) into ``out[p]``; False if singular."""
     a = M[p, 0, 0]

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 
-from .jit import kernel
+from .jit import derivative_kernel, kernel
 
 # LineArrays.vis: axial model of each line (mirrors moorline.model ELASTIC ... SYROPE)
 VIS_ELASTIC = 1
@@ -70,13 +70,13 @@ def xs_offset(R):
     return xs_start(R.dims)
 
 
-@kernel
+@derivative_kernel
 def xs_start(dims):
     """:func:`xs_offset` from ``RigidArrays.dims`` alone (for kernels that take arrays)."""
     return 6 * dims[0] + 13 * dims[1] + dims[2]
 
 
-@kernel
+@derivative_kernel
 def _col_interp(A, r0, n, cx, cy, v):
     """Linear interpolation of column ``cy`` against column ``cx`` (increasing) of rows
     ``r0:r0+n`` of the table ``A``, clamped at both ends (MoorDyn's ``interp``)."""
@@ -97,13 +97,13 @@ def _col_interp(A, r0, n, cx, cy, v):
     return A[lo, cy] + f * (A[lo + 1, cy] - A[lo, cy])
 
 
-@kernel
+@derivative_kernel
 def _equal(a, b):
     """MoorDyn's EqualRealNos: equal within 50 machine epsilons of max(|a + b|, 1)."""
     return abs(a - b) <= max(abs(a + b), 1.0) * 50.0 * 2.220446049250313e-16
 
 
-@kernel
+@derivative_kernel
 def build_working_curve(L, li, w, tmax):
     """Working curve of line ``li`` for the largest mean tension ``tmax`` into ``L.sy_wc[w]``
     (columns: total strain, tension, slow strain; spec 3.4.3)."""
@@ -134,7 +134,7 @@ def build_working_curve(L, li, w, tmax):
         wc[i, 2] = x - math.log(1.0 + beta / alpha * t) / beta
 
 
-@kernel
+@derivative_kernel
 def _wc_index(L, li, s):
     """Row of ``sy_wc`` that segment ``s`` of line ``li`` uses: its own, or its line's first
     segment's when one working curve is shared per line (MoorDyn-C)."""
@@ -143,7 +143,7 @@ def _wc_index(L, li, s):
     return s
 
 
-@kernel
+@derivative_kernel
 def _rate(L, li, s, st, dl, ldot, l0, EA):
     """(tension magnitude, ds/dt, Tmean) of the static branch of segment ``s`` with stretch state
     ``st`` [m], total stretch ``dl`` [m] and stretch rate ``ldot`` [m/s] (spec 3.4)."""
@@ -175,7 +175,7 @@ def _rate(L, li, s, st, dl, ldot, l0, EA):
     return ea1 * st / l0, sdot, 0.0
 
 
-@kernel
+@derivative_kernel
 def _static_state(L, li, s, dl, l0, EA, guess):
     """Stretch state at rest (ds/dt = 0, no stretch rate) for a total stretch ``dl``. A Syrope
     segment keeps its state ``guess``: its slow strain is history (the mean tension Tmean0 the
@@ -196,7 +196,7 @@ def _static_state(L, li, s, dl, l0, EA, guess):
     return st
 
 
-@kernel
+@derivative_kernel
 def _mean_stiffness(L, li, st, l0, EA):
     """(EA_d, EA_1) of the mean-load dependent model at stretch state ``st``."""
     alpha = L.vis_par[li, 0]
@@ -210,7 +210,7 @@ def _mean_stiffness(L, li, st, l0, EA):
     return ea2, ea2 * EA / (ea2 - EA)
 
 
-@kernel
+@derivative_kernel
 def _trapezoid_state(L, li, s, x, dl, ldot, l0, EA, h):
     """Stretch state at the end of an implicit step: s1 = s0 + h/2 (f0 + f(s1)), with s0, f0 the
     state and rate at the start (``xs_s0``, ``xs_f0``). Linear in s1 for the constant model, a
@@ -242,7 +242,7 @@ def _trapezoid_state(L, li, s, x, dl, ldot, l0, EA, h):
     return st
 
 
-@kernel
+@derivative_kernel
 def segment_axial(L, W, li, s, ls, ldot, l0):
     """Tension and internal damping magnitudes [N] of segment ``s`` of a viscoelastic or Syrope
     line ``li`` with stretched length ``ls`` and stretch rate ``ldot``; the stretch state used (and
@@ -281,7 +281,7 @@ def segment_axial(L, W, li, s, ls, ldot, l0):
     return T, L.seg_BA[s] * sdot / l0
 
 
-@kernel
+@derivative_kernel
 def update_history(L, li, s, tmean):
     """Syrope history of segment ``s``: the mean tension, and the largest one with its working curve."""
     L.sy_T[s, 1] = tmean
@@ -291,7 +291,7 @@ def update_history(L, li, s, tmean):
 
 
 # ------------------------------------------------------------------------------------------ VIV
-@kernel
+@derivative_kernel
 def viv_before(L, W):
     """Keep the node accelerations of the previous evaluation (MoorDyn's rdd_old) for the VIV
     nodes, before the line kernels overwrite them."""
@@ -303,7 +303,7 @@ def viv_before(L, W):
                 W.acc_old[n, c] = W.acc[n, c]
 
 
-@kernel
+@derivative_kernel
 def viv_after(L, E, W):
     """Cross-flow lift of the synchronisation model at every internal node of the VIV lines (spec
     3.11), added to the node forces and accelerations; the phase rates go to ``W.dphi``. The
@@ -390,7 +390,7 @@ def viv_after(L, E, W):
         L.xs_ctl[XC_TOLD] = t
 
 
-@kernel
+@derivative_kernel
 def line_state_rates(L, R, W, dy):
     """Write the rates of the line states (stretch of viscoelastic segments, VIV phases) into the
     derivative ``dy``. In the implicit scheme's trapezoidal mode and in static solves the states
@@ -406,7 +406,7 @@ def line_state_rates(L, R, W, dy):
             dy[xo + x] = W.dphi[n]
 
 
-@kernel
+@derivative_kernel
 def load_line_states(y, L, R, W):
     """Copy the line states from the state ``y`` into ``W.seg_s`` and ``W.phi``."""
     xo = xs_offset(R)

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .jit import kernel
+from .jit import derivative_kernel, kernel
 
 
 @kernel(inline="always")
@@ -36,7 +36,7 @@ def unit3(x, y, z):
     return 0.0, 0.0, 0.0, 0.0
 
 
-@kernel
+@derivative_kernel
 def quat_to_R(y, o, Rm):
     """Rotation matrix of the quaternion ``y[o:o+4]`` (normalised here) into ``Rm`` (3, 3)."""
     w = y[o]
@@ -62,7 +62,7 @@ def quat_to_R(y, o, Rm):
     Rm[2, 2] = 1.0 - 2.0 * (x * x + yy * yy)
 
 
-@kernel
+@derivative_kernel
 def quat_rate(y, o, wx, wy, wz, dy, od):
     """dQ/dt = 0.5 (0, omega) (x) Q for the quaternion ``y[o:o+4]``, omega in global axes."""
     w = y[o]
@@ -75,7 +75,7 @@ def quat_rate(y, o, wx, wy, wz, dy, od):
     dy[od + 3] = 0.5 * (wz * w + wx * yy - wy * x)
 
 
-@kernel
+@derivative_kernel
 def euler_R(roll, pitch, yaw, Rm):
     """Rm = Rx(roll) Ry(pitch) Rz(yaw) (MoorDyn's coupling and deck convention)."""
     cr = math.cos(roll)
@@ -95,7 +95,7 @@ def euler_R(roll, pitch, yaw, Rm):
     Rm[2, 2] = cr * cp
 
 
-@kernel
+@derivative_kernel
 def solve_dense(A, b, x, n, a):
     """Solve the n x n system A x = b (Gaussian elimination with partial pivoting) without
     changing A or b, in the scratch ``a`` (at least n x (n + 1)). Returns False (x = NaN) if A is
@@ -133,7 +133,7 @@ def solve_dense(A, b, x, n, a):
     return True
 
 
-@kernel
+@derivative_kernel
 def skew3(S, rx, ry, rz):
     """S a = r x a."""
     S[0, 0] = 0.0
@@ -147,14 +147,14 @@ def skew3(S, rx, ry, rz):
     S[2, 2] = 0.0
 
 
-@kernel
+@derivative_kernel
 def add_translated3(M6, M3, rx, ry, rz, S):
     """M6 += T^T [[M3, 0], [0, 0]] T for a point mass matrix M3 at offset r: the blocks
     [[M3, -M3 S], [S M3, -S M3 S]], S = S(r). ``S`` is (3, 3) scratch."""
     add_translated6(M6, M3, M3, M3, M3, 1, rx, ry, rz, S)
 
 
-@kernel
+@derivative_kernel
 def add_translated6(Md, A, Bm, C, D, point_only, rx, ry, rz, S):
     """Md += T^T [[A, Bm], [C, D]] T, T = [[I, -S], [0, I]], S = S(r): a mass about a point offset
     by r moved to the parent's point. With ``point_only`` the blocks Bm, C, D are taken as zero

@@ -14,7 +14,7 @@ import math
 
 from .features import FLOATING, LINE_STATES, RIGID, WATER, when
 from .floating import floating_loads, floating_motion
-from .jit import kernel
+from .jit import derivative_kernel, kernel
 from .layout import ATT_POINT, ATT_ROD_A, P_COUPLED, P_FIXED, P_FREE
 from .lines import add_end_mass, line_forces, solve3
 from .linestates import XC_TIME, line_state_rates, load_line_states, viv_after, viv_before
@@ -32,7 +32,7 @@ from .rigid import (
 from .waterkin import WAVES_EXTERNAL, fluid_at, fluid_at_points
 
 
-@kernel
+@derivative_kernel
 def motion_piece(Mo, t):
     """Index of the trajectory piece holding time ``t`` (right-continuous at knots, clamped)."""
     tk = Mo.t
@@ -43,7 +43,7 @@ def motion_piece(Mo, t):
     return bracket(tk, 1, tk.size - 2, t)
 
 
-@kernel
+@derivative_kernel
 def motion_eval(Mo, t, piece, x, v, a):
     """Evaluate the coupled trajectory ``Mo`` at time ``t`` into x, v, a, on trajectory piece
     ``piece`` (or, when negative, on the piece that holds ``t``). A time step never straddles a knot
@@ -139,7 +139,7 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
                     v[n, c] = rodv[k, e, c]
 
 
-@kernel
+@derivative_kernel
 def set_water(t, K, W):
     """Water velocity and acceleration, surface elevation (and dynamic pressure at rod nodes) at
     every line node, rod node, point and body reference point at time ``t`` (spec 4). External
@@ -214,7 +214,7 @@ def point_loads(P, E, W, cd_scale):
             solve3(pM, p, pF, W.pa)
 
 
-@kernel
+@derivative_kernel
 def _any_viv(L):
     for li in range(L.viv.shape[0]):
         if L.viv[li, 0] > 0.0:
@@ -222,7 +222,7 @@ def _any_viv(L):
     return False
 
 
-@kernel(fastmath=True, forceinline=True)
+@derivative_kernel
 def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     """Write dy/dt of the state ``y`` at time ``t`` into ``dy`` (and fill the Work arrays).
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from .jit import kernel
+from .jit import derivative_kernel
 from .layout import (
     ATT_POINT,
     ATT_ROD_A,
@@ -45,7 +45,7 @@ from .numerics import (
 from .seabed import _ramp, seabed_at
 
 
-@kernel
+@derivative_kernel
 def _pinned_rotation(M6, F6, acc, M3, rhs3, x3, dense):
     """Angular acceleration of an object whose reference point moves with the imposed
     acceleration ``acc[:3]``: alpha = M_rr^-1 (F_rot - M_rt a), written into ``acc[3:]``.
@@ -64,7 +64,7 @@ def _pinned_rotation(M6, F6, acc, M3, rhs3, x3, dense):
 # ---------------------------------------------------------------------------------- kinematics
 
 
-@kernel
+@derivative_kernel
 def body_kinematics(y, R, W):
     """Pose and velocity of every body from its kind: fixed (deck pose), coupled (the coupling
     input, Euler-angle rates taken as the angular velocity as MoorDyn does), coupled-pinned
@@ -108,7 +108,7 @@ def body_kinematics(y, R, W):
                 W.bw[i, c] = y[ou + 3 + c]
 
 
-@kernel
+@derivative_kernel
 def _on_body(b, rel_x, rel_y, rel_z, bR, br, bv, bw):
     """Global position and velocity of a point given in body ``b``'s axes."""
     gx, gy, gz = matvec3(bR[b], rel_x, rel_y, rel_z)
@@ -116,7 +116,7 @@ def _on_body(b, rel_x, rel_y, rel_z, bR, br, bv, bw):
     return br[b, 0] + gx, br[b, 1] + gy, br[b, 2] + gz, bv[b, 0] + cx, bv[b, 1] + cy, bv[b, 2] + cz
 
 
-@kernel
+@derivative_kernel
 def rod_kinematics(y, R, W):
     """End-A position and velocity, axis and angular velocity of every rod (spec 3.14.4); the
     axis of a zero-length rod that takes it from its cables is set later by
@@ -187,7 +187,7 @@ def rod_kinematics(y, R, W):
         W.rodw[k, 2] = wz
 
 
-@kernel
+@derivative_kernel
 def zero_length_axes(R, L, W):
     """Axis of every zero-length rod from its cables (spec 3.14.4, MoorDyn's semantics): the
     normalised sum over attached lines of sigma EI e_end / l_end, sigma = +1 for a line end B on rod
@@ -236,7 +236,7 @@ def zero_length_axes(R, L, W):
             W.rodq[k, 2] = sz / n
 
 
-@kernel
+@derivative_kernel
 def rod_nodes(R, W):
     """End B and the node positions and velocities of every rod from end A, axis and omega."""
     rodq = W.rodq
@@ -274,7 +274,7 @@ def rod_nodes(R, W):
             rodv[k, 1, c] = rn_v[nb, c]
 
 
-@kernel
+@derivative_kernel
 def body_point_kinematics(P, W):
     """Position and velocity of the points fixed to bodies."""
     for p in range(P.kind.size):
@@ -296,7 +296,7 @@ def body_point_kinematics(P, W):
 # ---------------------------------------------------------------------------------- loads
 
 
-@kernel
+@derivative_kernel
 def rod_loads(R, E, B, W, cd_scale):
     """Node loads of every rod (spec 3.14.2, with end effects and partial submergence), the line
     end forces and masses at its end nodes, and the 6x6 sums about end A (spec 3.14.3) into
@@ -544,7 +544,7 @@ def rod_loads(R, E, B, W, cd_scale):
                 M6[3 + a, 3 + a] += Ic
 
 
-@kernel
+@derivative_kernel
 def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_, moment):
     """Centripetal load on body b of a mass ``Mc`` (3x3) centred at c (global): force
     -Mc (omega x (omega x (c - r_b))) and, if ``moment``, its moment about the reference point
@@ -572,7 +572,7 @@ def _centripetal_on_body(br, bw, b6F, b, Mc, cx_, cy_, cz_, moment):
         b6F[b, 5] += mz
 
 
-@kernel
+@derivative_kernel
 def _add_child_to_body(br, b6F, b6M, b, F6, M6, point_only, ax, ay, az, S):
     """Add a child's force/moment ``F6`` and mass about its point a (global) to body b. With
     ``point_only`` F6[3:] is ignored and only the 3x3 block M6[:3, :3] is used (a point mass)."""
@@ -593,7 +593,7 @@ def _add_child_to_body(br, b6F, b6M, b, F6, M6, point_only, ax, ay, az, S):
     add_translated6(b6M[b], M6[:3, :3], M6[:3, 3:], M6[3:, :3], M6[3:, 3:], point_only, rx, ry, rz, S)
 
 
-@kernel
+@derivative_kernel
 def _rod_inertial(k, R, W, Fe):
     """Fe = rod k's F6 plus its velocity-dependent inertial loads about end A: the centripetal
     force -M_i omega x (omega x r_i) of every node (and its moment), and the gyroscopic moment
@@ -646,7 +646,7 @@ def _rod_inertial(k, R, W, Fe):
         Fe[5] -= gz
 
 
-@kernel
+@derivative_kernel
 def rigid_dynamics(y, dy, R, P, E, W):
     """After the line, point and rod loads: rod equations of motion (free, pinned) and what rods
     and points pass to their bodies, then each body's own loads and mass matrix (W.b6F, W.b6M);
@@ -813,7 +813,7 @@ def rigid_dynamics(y, dy, R, P, E, W):
                 F6[3 * part + a] += Rm[a, 0] * bx + Rm[a, 1] * by + Rm[a, 2] * bz
 
 
-@kernel
+@derivative_kernel
 def body_motion(y, dy, R, W, F):
     """Body equations of motion from W.b6F and W.b6M: accelerations of free and coupled-pinned
     bodies (floating bodies solved with their group are already in W.bacc), their state

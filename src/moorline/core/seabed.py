@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 
-from .jit import kernel
+from .jit import derivative_kernel, kernel
 from .numerics import bracket, unit3
 
 # seabed contact modes and friction models (mirrors of model.CONTACT_MODES / FRICTION_MODELS)
@@ -84,7 +84,7 @@ def seabed_at(gx, gy, gz, depth, x, y):
     return zb, -dzdx * inv, -dzdy * inv, inv, outside
 
 
-@kernel
+@derivative_kernel
 def _saturate(mu, cv, mc, N, vx, vy, vz):
     """MoorDyn's saturated-damping friction on a sliding velocity: mu cv |v| while that is below
     mc mu N, else mu N; opposite to v."""
@@ -96,7 +96,7 @@ def _saturate(mu, cv, mc, N, vx, vy, vz):
     return -ff * vx / vm, -ff * vy / vm, -ff * vz / vm
 
 
-@kernel
+@derivative_kernel
 def _stick(k, c, mu, mc, N, dd, vv, slipping, commit):
     """One direction of the stick-slip friction: spring extension ``dd`` [m] and velocity ``vv``
     [m/s] along it. Returns (force, new extension, new slip flag)."""
@@ -179,7 +179,7 @@ def _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz):
     return nx, ny, nz, (zb - rz) * nz, vx * nx + vy * ny + vz * nz
 
 
-@kernel
+@derivative_kernel
 def _contact(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     """Contact force of a node below the seabed and its normal force, normal and sliding velocity."""
     nx, ny, nz, pen, vn = _contact_frame(E, zb, nx, ny, nz, rz, vx, vy, vz)
@@ -198,7 +198,7 @@ def contact_slope(E, zb, nx, ny, nz, rz, vx, vy, vz, area):
     return k, c, nx, ny, nz
 
 
-@kernel
+@derivative_kernel
 def _plane_axis(qx, qy, qz, nx, ny, nz):
     """The line tangent projected on the seabed plane, normalised (MoorDyn-F splits along the
     unprojected tangent, which gives the friction a component normal to the seabed wherever the
@@ -208,7 +208,7 @@ def _plane_axis(qx, qy, qz, nx, ny, nz):
     return ux, uy, uz
 
 
-@kernel
+@derivative_kernel
 def seabed_force(E, zb, nx, ny, nz, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     """Contact and saturated-damping friction (isotropic or directional) on a line node at
     (rx, ry, rz), below the local seabed height ``zb`` with unit normal n, moving at (vx, vy, vz)
@@ -226,7 +226,7 @@ def seabed_force(E, zb, nx, ny, nz, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     return bx + ax + tx, by + ay + ty, bz + az + tz
 
 
-@kernel
+@derivative_kernel
 def seabed_force_stickslip(E, zb, nx, ny, nz, anchor, slip, ctl, n, rx, ry, rz, vx, vy, vz, qx, qy, qz, d, lam):
     """Contact and stick-slip friction on line node ``n`` (arguments as :func:`seabed_force`, plus
     the stick-slip state (anchor, slip, ctl) of :class:`~moorline.core.layout.Seabed`). The

@@ -53,7 +53,7 @@ import numpy as np
 
 from ..model.types import Bathymetry
 from ..model.water import Current, WaveGrid, Waves
-from .jit import kernel
+from .jit import derivative_kernel, kernel
 from .numerics import bracket
 from .seabed import seabed_at
 
@@ -222,7 +222,7 @@ def wave_numbers(omega, g: float, h: float, method: str = "exact") -> np.ndarray
 
 
 # --------------------------------------------------------------------------- small kernels
-@kernel
+@derivative_kernel
 def _cell(a, v):
     """(i0, i1, f) for linear interpolation in the increasing axis ``a`` at ``v``, clamped."""
     n = a.size
@@ -234,7 +234,7 @@ def _cell(a, v):
     return i, i + 1, (v - a[i]) / (a[i + 1] - a[i])
 
 
-@kernel
+@derivative_kernel
 def _time_cell(t, dt, nt, wrap):
     """(i0, i1, f) of a record of nt samples spaced dt from t = 0 (spec 4.7).
 
@@ -263,7 +263,7 @@ def _time_cell(t, dt, nt, wrap):
     return i0, (i0 + 1) % nt, f
 
 
-@kernel
+@derivative_kernel
 def _ramp(t, tr):
     """Ramp factor r(t) = (1 - cos(pi t / tr)) / 2 on [0, tr] and its derivative [1/s]."""
     if tr <= 0.0 or t >= tr:
@@ -274,7 +274,7 @@ def _ramp(t, tr):
     return 0.5 * (1.0 - math.cos(a * t)), 0.5 * a * math.sin(a * t)
 
 
-@kernel
+@derivative_kernel
 def _stretched(z, zeta, zb, h, stretch):
     """Height z' [m] at which the Airy fields are evaluated for a point at height z with the
     local seabed at zb and the surface at zeta (Wheeler), or min(z, 0) without stretching."""
@@ -294,7 +294,7 @@ def _stretched(z, zeta, zb, h, stretch):
 # workers take plain arrays and scalars.
 
 
-@kernel
+@derivative_kernel
 def _waves_sum(t, x, y, z, zb, h, stretch, ramp, pdyn, rhog, omega, are, aim, cosb, sinb, kk, ish, ich, e2h, o, work):
     """Sum of the components at one point into o[0:8] (overwrites); ``work`` (2, nc) scratch.
 
@@ -359,7 +359,7 @@ def _waves_sum(t, x, y, z, zb, h, stretch, ramp, pdyn, rhog, omega, are, aim, co
     o[7] = r * rhog * p
 
 
-@kernel
+@derivative_kernel
 def _waves_grid(t, x, y, z, zb, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, o):
     """Interpolation in the wave grid at one point into o[0:8] (overwrites)."""
     nt = gzeta.shape[2]
@@ -404,7 +404,7 @@ def _waves_grid(t, x, y, z, zb, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, g
     o[7] = r * p
 
 
-@kernel
+@derivative_kernel
 def _add_current_grid(t, x, y, z, cx, cy, cz, dt, wrap, dudt, vel, o):
     """Add the gridded current velocity (and acceleration) at one point to o[0:6]."""
     nt = vel.shape[3]
@@ -443,7 +443,7 @@ def _add_current_grid(t, x, y, z, cx, cy, cz, dt, wrap, dudt, vel, o):
         o[5] += (v1z - v0z) / dt
 
 
-@kernel
+@derivative_kernel
 def _seabed_z(sb_x, sb_y, sb_z, h, x, y):
     """Local seabed height [m] for stretching: the grid's, or -h without one."""
     if sb_x.size == 0:
@@ -452,7 +452,7 @@ def _seabed_z(sb_x, sb_y, sb_z, h, x, y):
 
 
 # ----------------------------------------------------------------------- loops over points
-@kernel
+@derivative_kernel
 def _sum_rows(t, r, sb_x, sb_y, sb_z, h, stretch, ramp, pdyn, rhog, omega, are, aim, cosb, sinb, kk, ish, ich, e2h,
               out, work):
     for i in range(r.shape[0]):
@@ -461,21 +461,21 @@ def _sum_rows(t, r, sb_x, sb_y, sb_z, h, stretch, ramp, pdyn, rhog, omega, are, 
                    kk, ish, ich, e2h, out[i], work)
 
 
-@kernel
+@derivative_kernel
 def _grid_rows(t, r, sb_x, sb_y, sb_z, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, out):
     for i in range(r.shape[0]):
         zb = _seabed_z(sb_x, sb_y, sb_z, h, r[i, 0], r[i, 1])
         _waves_grid(t, r[i, 0], r[i, 1], r[i, 2], zb, h, stretch, ramp, gx, gy, gz, dt, wrap, gzeta, gkin, out[i])
 
 
-@kernel
+@derivative_kernel
 def _current_rows(t, r, cx, cy, cz, dt, wrap, dudt, vel, out):
     for i in range(r.shape[0]):
         _add_current_grid(t, r[i, 0], r[i, 1], r[i, 2], cx, cy, cz, dt, wrap, dudt, vel, out[i])
 
 
 # --------------------------------------------------------------------------- public kernels
-@kernel
+@derivative_kernel
 def fluid_at(t, x, y, z, K, out):
     """Water kinematics at one point.
 
@@ -516,7 +516,7 @@ def fluid_at(t, x, y, z, K, out):
         _add_current_grid(t, x, y, z, K.cg_x, K.cg_y, K.cg_z, K.cg_dt, K.cg_wrap, K.cg_dudt, K.cg_vel, out)
 
 
-@kernel
+@derivative_kernel
 def fluid_at_points(t, r, K, out):
     """Water kinematics at n points (nodes): one call per derivative evaluation.
 
