@@ -12,13 +12,28 @@ threads on the two cores. Measured under load 5 (benchmarks/RESULTS.md section 7
 tests/floating/test_decay.py took 28.7-29.2 s with OpenBLAS's threads against 5.8-7.8 s without
 (the hydrodynamic state-space fits' SVDs and eigenvalue problems). The xdist workers are started
 after this file is read, so they load their BLAS with these settings.
+
+The workers of a whole-suite run share the compilation of the big kernels (the derivative and the
+two time loops, some 310 s of CPU from an empty cache) through numba's cache instead of each
+compiling all of it: tests/shared_compile.py.
 """
 
 from __future__ import annotations
 
 import os
 
+import pytest
+
+from .shared_compile import compile_shared
+
 os.environ.setdefault("MOORLINE_ALL_FEATURES", "1")
 for _k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS",
            "NUMEXPR_NUM_THREADS"):
     os.environ.setdefault(_k, "1")
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _shared_compilation(request, tmp_path_factory):
+    """The suite's big kernels compiled once for all pytest-xdist workers, not once by each
+    (tests/shared_compile.py)."""
+    compile_shared(len(request.session.items), tmp_path_factory.getbasetemp().parent)
