@@ -82,9 +82,16 @@ from .linestates import MODE_RATE, XC_MODE, end_line_states, keep_rates, start_l
 from .rhs import motion_eval, motion_piece, rhs_call
 
 #: the Jacobian is rebuilt when the contraction of the Newton increments is at least THETA_MAX, or
-#: predicts more than SLOW_ITER further iterations (a Jacobian costs 9-15 derivative evaluations)
+#: predicts more further iterations than SLOW_ITER or, if more, SLOW_SHARE times the derivative
+#: evaluations of a Jacobian (one per colour and component: 9 on the OC3 chain, 27 on the lazy-wave
+#: cable of benchmarks/decks, whose bending and rods need more colours). A modified-Newton
+#: iteration costs about one evaluation, so a system whose Jacobian costs more waits longer before
+#: rebuilding it: on that cable (GenAlpha, 34 segments, 0.2 s) a threshold of 4 built 111
+#: Jacobians in 300 steps and took 43.5 ms, 6-12 built 70-88 and took 37.4-37.7 ms
+#: (benchmarks/RESULTS.md section 6, session 10)
 THETA_MAX = 0.9
 SLOW_ITER = 4.0
+SLOW_SHARE = 1.0 / 3.0
 #: a residual growing by more than this factor over an iteration starts a backtracking line search
 GROWTH = 1.0
 #: the iterations start from a1 = a0 + PREDICTOR (h / h_prev) (a0 - a_prev): half the linear
@@ -172,8 +179,11 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
     pinv[perm] = np.arange(ndof)
     best = (perm, pinv)
     am, af, beta, gamma = gen_alpha_parameters(rho)
+    # derivative evaluations of a Jacobian: per colour, one per component of its widest unit
+    jac_evals = sum(int(ncomp[col_units[col_ptr[c]:col_ptr[c + 1]]].max()) for c in range(nc))
+    slow = max(SLOW_ITER, SLOW_SHARE * jac_evals)
     par = np.array([am, af, beta, gamma, atol_x, atol_v, float(max_iter), rho, 1.0, contact_tol, THETA_MAX,
-                    SLOW_ITER, GROWTH, PREDICTOR])
+                    slow, GROWTH, PREDICTOR])
     L = layout.lines
     cn_node, cn_dof, cn_area = [], [], []
     for li in range(len(layout.line_N)):
@@ -279,10 +289,11 @@ def gen_alpha_step(y, t, h, A, IW, L, R, P, E, B, Mo, W, F, FW, piece):
     Modified Newton: the factored Jacobian is kept across iterations and steps. Its seabed contact
     terms follow the iterate (:func:`refactor`, no derivative evaluations); it is rebuilt by
     finite differences only when the step size changed, the residual grew, or the observed
-    contraction of the increments (theta = |da_k| / |da_k-1|) predicts more than ``SLOW_ITER``
-    further iterations. Convergence: the error estimate theta / (1 - theta) |da_k| (Hairer and
-    Wanner's test for Newton's method with a frozen Jacobian; |da_1| itself at the first
-    iteration) below ``atol_x`` in position and ``atol_v`` in velocity."""
+    contraction of the increments (theta = |da_k| / |da_k-1|) predicts more than ``A.par[11]``
+    further iterations (:data:`SLOW_ITER`, :data:`SLOW_SHARE`). Convergence: the error estimate
+    theta / (1 - theta) |da_k| (Hairer and Wanner's test for Newton's method with a frozen
+    Jacobian; |da_1| itself at the first iteration) below ``atol_x`` in position and ``atol_v`` in
+    velocity."""
     par = A.par
     beta = par[2]
     gamma = par[3]

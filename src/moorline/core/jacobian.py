@@ -104,7 +104,8 @@ class ImplicitArrays(NamedTuple):
     band: np.ndarray  # int64 (3,): kl, ku of the leading (banded) block, nb border DOFs (the last nb
     #                  positions: floating-body blocks, which couple every line they carry)
     par: np.ndarray  # (14,) alpha_m, alpha_f, beta, gamma, atol_x, atol_v, max_iter, rho_inf, drag scale,
-    #                 contact update tolerance (0: off), THETA_MAX, SLOW_ITER, GROWTH, PREDICTOR
+    #                 contact update tolerance (0: off), THETA_MAX, rebuild threshold (implicit.SLOW_ITER,
+    #                 SLOW_SHARE), GROWTH, PREDICTOR
     cn_node: np.ndarray  # int64 (n_cn,): internal line nodes (seabed contact tracked in the Jacobian)
     cn_dof: np.ndarray  # int64 (n_cn,): their first DOF
     cn_area: np.ndarray  # (n_cn,): their contact area d lam [m^2]
