@@ -131,8 +131,8 @@ def derivative_kernel(fn):
     passes its tuples' arrays one by one). These are the flags numba gave them before they were
     set explicitly, when the derivative compiled them first, as it does in a run that starts with
     its initial conditions (:func:`kernel` on why they are explicit). A kernel the derivative
-    calls that other code compiled first then (``seabed.seabed_at``, called from Python by the
-    initial conditions, ``seabed.contact_slope``) keeps plain :func:`kernel`, as it had."""
+    calls that other code compiled first then (``seabed.seabed_at``, which the initial conditions
+    call from Python) keeps plain :func:`kernel`, as it had."""
     return kernel(fn, fastmath=True, forceinline=True)
 
 
