@@ -409,3 +409,49 @@ def test_chain_with_seabed_contact_costs_few_evaluations_per_step():
     assert st["refactors"] > 0, st  # contact terms were followed
     assert st["evaluations"] / st["steps"] < 6.0, st
     assert st["jacobians"] < 0.15 * st["steps"], st
+
+
+@pytest.mark.skipif(not (SHARED / "conformance").exists(), reason="../shared/conformance not present")
+def test_static_jacobian_retry_with_another_diagonal_is_the_jacobian_rebuilt():
+    # Newton statics retries a rejected iteration with a smaller pseudo step on the -df/dx it
+    # kept, not a new finite-difference Jacobian: the factors, so the increments, must be those of
+    # a Jacobian built with that diagonal, bit for bit. MoorDyn's BodiesAndRods has a free body,
+    # so both the banded block and the Schur-complement border are exercised (at the deck's
+    # start: the body has no equilibrium near it, and none is needed here).
+    from moorline.core.jacobian import factor
+    from moorline.core.statics import StaticEval, solve_increment
+
+    s = System.from_file(SHARED / "conformance/inputs/bodies_and_rods/BodiesAndRods.dat", scheme="GenAlpha")
+    L, R, P, _, B, W, F, FW = s._kernel_arrays()
+    E = s._kernel_env_ic()
+    A, IW = s._implicit()
+    assert A.band[2] > 0  # a border
+    ev = StaticEval(s.y, A, IW, L, R, P, E, B, s._motion, W, F, FW)
+    IW.y0[:s.y.size] = s.y
+    d_small, d_big = 1.0, 1e3
+
+    def increment(make):
+        ev.residual()
+        assert make() == 0
+        solve_increment(A, IW)
+        return IW.da.copy()
+
+    def assembled_with(diag):
+        # the Jacobian assembled with its diagonal in the columns, as before the retry kept -df/dx
+        ev.fd_steps(IW, ev.n3, ev.n6, 1e-7, 1.0)
+        ev.clear(IW)
+        for cu in range(A.col_ptr.size - 1):
+            for k in range(6):
+                if ev.state(A, IW, s.y, cu, k, ev.n3, ev.n6):
+                    ev.rhs(0.0, s.y, IW.f1, *ev.nt, 1.0, np.int64(-1))
+                    ev.columns(A, IW, ev.uoff, cu, k, diag)
+        s.y[:] = IW.y0[:s.y.size]
+        return factor(A, IW)
+
+    rebuilt = increment(lambda: ev.jacobian(d_big))
+    assert np.array_equal(increment(lambda: assembled_with(d_big)), rebuilt)
+    ev.jacobian(d_small)
+    retried = increment(lambda: ev.refactor(d_big))
+    assert np.array_equal(rebuilt, retried)
+    assert not np.array_equal(increment(lambda: ev.refactor(d_small)), retried)
+    assert np.array_equal(increment(lambda: ev.refactor(d_big)), rebuilt)

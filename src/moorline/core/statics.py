@@ -13,7 +13,7 @@ import numpy as np
 from numba import typeof
 
 from .integrate import FINAL_END, advance
-from .jacobian import S_NJAC, S_NRHS, assemble, clear, displace, factor, fd_steps, shift_colour, solve_increment
+from .jacobian import S_NJAC, S_NRHS, assemble, clear, copy2, displace, factor, fd_steps, shift_colour, solve_increment
 from .jit import compile_for, kernel
 from .linestates import xs_offset
 from .rhs import rhs_call
@@ -243,11 +243,30 @@ def _colour_columns(A, IW, uoff, cu, k, diag):
 
 
 @kernel
-def _static_factor(A, IW, y):
-    """``y`` back to IW.y0, the Jacobian counted and factored; returns LU's status."""
-    IW.stat[S_NJAC] += 1
+def _static_factor(A, IW, y, rawAB, rawBB, diag, keep):
+    """``y`` back to IW.y0 and the Jacobian factored with ``diag`` on its diagonal. Its
+    finite-difference part, assembled with a zero diagonal, is kept in ``rawAB``/``rawBB``
+    (``keep``: a new Jacobian, counted) or taken back from them (a retry with another diagonal:
+    the LU overwrote the band). The border blocks LBt and BL hold no diagonal and the LU leaves
+    them as they are. Adding ``diag`` to the kept -df/dx gives the numbers of an assembly with it,
+    bit for bit (x + 0 + d = x + d). Returns LU's status."""
     for i in range(y.size):
         y[i] = IW.y0[i]
+    if keep:
+        IW.stat[S_NJAC] += 1
+        copy2(IW.AB, rawAB)
+        copy2(IW.BB, rawBB)
+    else:
+        copy2(rawAB, IW.AB)
+        copy2(rawBB, IW.BB)
+    kv = A.band[0] + A.band[1]
+    nl = IW.a1.size - A.band[2]
+    for i in range(IW.a1.size):
+        p = A.pinv[i]
+        if p < nl:
+            IW.AB[kv, p] += diag
+        else:
+            IW.BB[p - nl, p - nl] += diag
     return factor(A, IW)
 
 
@@ -280,7 +299,10 @@ class StaticEval:
         self.clear = compile_for(clear, (IW,))
         self.state = compile_for(_colour_state, (A, IW, y, 0, 0, n3, n6))
         self.columns = compile_for(_colour_columns, (A, IW, self.uoff, 0, 0, 1.0))
-        self.factor = compile_for(_static_factor, (A, IW, y))
+        # -df/dx of the last Jacobian, kept for a retry with another diagonal
+        self.rawAB = np.empty_like(IW.AB)
+        self.rawBB = np.empty_like(IW.BB)
+        self.factor = compile_for(_static_factor, (A, IW, y, self.rawAB, self.rawBB, 1.0, True))
 
     def with_env(self, E) -> StaticEval:
         """The same evaluations in the environment ``E`` instead, with the compiled entry points
@@ -315,13 +337,18 @@ class StaticEval:
         kmax = 6 if n6 > 0 else 3
         rhs, nt, f1, state, columns = self.rhs, self.nt, IW.f1, self.state, self.columns
         piece = np.int64(-1)
-        diag = float(diag)
         for cu in range(A.col_ptr.size - 1):
             for k in range(kmax):
                 if state(A, IW, y, cu, k, n3, n6):
                     rhs(0.0, y, f1, *nt, 1.0, piece)
-                    columns(A, IW, uoff, cu, k, diag)
-        return int(self.factor(A, IW, y))
+                    columns(A, IW, uoff, cu, k, 0.0)
+        return int(self.factor(A, IW, y, self.rawAB, self.rawBB, float(diag), True))
+
+    def refactor(self, diag: float) -> int:
+        """The last :meth:`jacobian`'s -df/dx (still at IW.y0) with ``diag`` on the diagonal
+        instead, factored, without evaluating the derivative again. ``y`` is left at IW.y0.
+        Returns LU's status."""
+        return int(self.factor(self.A, self.IW, self.y, self.rawAB, self.rawBB, float(diag), False))
 
 
 def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol, max_iter, min_growth=1.0,
@@ -380,13 +407,14 @@ def newton_statics(y, A, IW, L, R, P, E, B, Mo, W, F, FW, tau0, acc_tol, dx_tol,
             big1, nrm1 = residual()
             if np.isfinite(nrm1) and (nrm1 <= 2.0 * nrm or tau2 < 1e-12):
                 break
-            # reject: back to y0 with a smaller pseudo step
+            # reject: back to y0 with a smaller pseudo step, on the same -df/dx (a Jacobian costs
+            # one evaluation per colour and component: 9-27 here, against the one of residual())
             y[:] = IW.y0[:y.size]
             tau2 *= 0.25
             if it >= max_iter:
                 return 0, it, big
             residual()
-            if jacobian(1.0 / tau2) != 0:
+            if ev.refactor(1.0 / tau2) != 0:
                 return -1, it, big
         if not np.isfinite(nrm1):
             return -1, it, big1
