@@ -179,7 +179,8 @@ def dependency_graph(layout: Layout) -> list[set]:
             adj[a].update(group)
 
     junction: dict[int, set] = {}
-    at_rod: dict[int, set] = {}  # the units near the line ends on each rod
+    # per rod, the line ends on it: the units from the end outward, one list per line end
+    at_rod: dict[int, list] = {}
     for li in range(len(layout.line_N)):
         n0, n1 = int(L.node_ptr[li]), int(L.node_ptr[li + 1])
         w = _line_reach(layout, li)
@@ -196,7 +197,8 @@ def dependency_graph(layout: Layout) -> list[set]:
             for u in units[0 if side == 0 else nn - 1]:
                 junction.setdefault(u, set()).update(near)
             if L.end_kind[li, side] != ATT_POINT:
-                at_rod.setdefault(int(L.end_idx[li, side]), set()).update(near)
+                outward = units[:w + 1] if side == 0 else units[::-1][:w + 1]
+                at_rod.setdefault(int(L.end_idx[li, side]), []).append((w, outward[1:]))
     # a body sees everything near the rods it carries; a rod on a body moves with it
     for k in range(len(R.rod_kind)):
         b = int(R.rod_body[k])
@@ -219,9 +221,20 @@ def dependency_graph(layout: Layout) -> list[set]:
                 junction[u] = shared
             link(units)
     # the lines on one rod see each other: a zero-length rod takes its axis from the cables on both
-    # of its ends, and a clamped end's bending couples the first nodes across the rod
-    for near in at_rod.values():
-        link(near)
+    # of its ends, and a clamped end's bending couples the first nodes across the rod. Two lines on
+    # a rod are linked as one line through it (the rod's units one node), within the larger of
+    # their reaches: the nodes near the rod on either side, not all of them with each other
+    for k, ends in at_rod.items():
+        rod_units = [int(R.rod_row[k])] if R.rod_row[k] >= 0 else []
+        if R.rod_blk[k] >= 0:
+            rod_units.append(n3 + int(R.rod_blk[k]))
+        for a in range(len(ends)):
+            for b in range(a + 1, len(ends)):
+                w = max(ends[a][0], ends[b][0])
+                path = ends[a][1][::-1] + [rod_units] + ends[b][1]
+                for i in range(len(path)):
+                    for j in range(i + 1, min(len(path), i + w + 1)):
+                        link(path[i] + path[j])
     # a junction (free point, rod, body) and the line units near it depend on each other; units of
     # different lines at a point or a body do not (only through it), so they are linked to it, not
     # to each other: that keeps a hub's lines apart in the banded order
