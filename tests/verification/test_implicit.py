@@ -494,9 +494,10 @@ def test_jacobian_colouring_covers_every_dependency_across_rods(deck):
     # the coloured Jacobian is right only if no unit depends on two units of one colour: the
     # dependency graph must hold every dependency. Lines on a rod are linked as one line through
     # it, within their reach (2 with bending stiffness), not all the nodes near the rod with each
-    # other: on the lazy-wave cable (two free zero-length joints) a Jacobian then costs 21
-    # derivative evaluations instead of 27 (15 without the joints' reach); on MoorDyn's
-    # complex_system (a body, zero-length rods, stiffener lines), 24 instead of 42
+    # other, and a junction sees the units within that reach of it (reach + 1 units, the end's
+    # own included): on the lazy-wave cable (two free zero-length joints) a Jacobian then costs
+    # 15 derivative evaluations instead of 27; on MoorDyn's complex_system (a body, zero-length
+    # rods, stiffener lines), 21 instead of 42
     from moorline.core.jacobian import dependency_graph
 
     path = {"lazy_wave": Path(__file__).parents[2] / "benchmarks/decks/lazy_wave_cable.dat",
@@ -513,4 +514,4 @@ def test_jacobian_colouring_covers_every_dependency_across_rods(deck):
     assert not missing
     A, _ = s._implicit()
     evals = sum(int(A.ncomp[A.col_units[A.col_ptr[c]:A.col_ptr[c + 1]]].max()) for c in range(A.col_ptr.size - 1))
-    assert evals == {"lazy_wave": 21, "complex_system": 24}[deck]
+    assert evals == {"lazy_wave": 15, "complex_system": 21}[deck]

@@ -190,7 +190,9 @@ def dependency_graph(layout: Layout) -> list[set]:
         for k in range(nn):
             for kk in range(k, min(nn, k + w + 1)):
                 link(units[k] + units[kk])
-        for side, ends in ((0, range(0, min(nn, w + 2))), (1, range(max(0, nn - w - 2), nn))):
+        # the junction at an end feels the units within the line's reach of it (its segment, and
+        # with bending stiffness the curvature at the next node): w + 1 units, its own included
+        for side, ends in ((0, range(0, min(nn, w + 1))), (1, range(max(0, nn - w - 1), nn))):
             near = set()
             for k in ends:
                 near.update(units[k])
