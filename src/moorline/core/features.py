@@ -163,8 +163,8 @@ class NoFloatWork(NamedTuple):
 
 class NoWater(NamedTuple):
     """The water kinematics (``EnvArrays.water``) of a system without waves, currents or external
-    kinematics, and without floating bodies, as its kernels take them (see :class:`NoRigid`): the
-    two modes the derivative tests (both 0) and none of the 30 empty arrays."""
+    kinematics, as its kernels take them (see :class:`NoRigid`): the two modes the derivative and
+    the floating bodies' viscous loads test (both 0) and none of the 30 empty arrays."""
 
     wave_mode: int
     current_mode: int
@@ -181,11 +181,11 @@ class NoExcitation(NamedTuple):
 
 def kernel_env(features: Features, E):
     """The environment ``E`` as the kernels of a system with ``features`` take it: without the
-    arrays of the water kinematics when it has neither WATER nor FLOATING, and without those of the
-    wave excitation when it has no FLOATING (:class:`NoWater`, :class:`NoExcitation`). A floating
-    body's viscous loads (``floating.floating_loads``) read the kinematics under a run-time test of
-    still water, outside the WATER gate, so a floating system keeps them, empty or not."""
-    if not features.water and not features.floating:
+    arrays of the water kinematics when it has no WATER, and without those of the wave excitation
+    when it has no FLOATING (:class:`NoWater`, :class:`NoExcitation`). Every kernel that reads
+    the kinematics does so under ``when(W, WATER, ...)`` (a floating body's viscous loads in
+    ``floating.floating_loads`` too, behind their run-time test of still water)."""
+    if not features.water:
         E = E._replace(water=NoWater(E.water.wave_mode, E.water.current_mode))
     if not features.floating:
         E = E._replace(exc=NoExcitation(E.exc.ctl))

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import math
 
+from .features import WATER, when
 from .jit import derivative_kernel, kernel
 from .layout import (
     CTL_QS_MOORING,
@@ -239,7 +240,9 @@ def floating_loads(t, y, dy, R, E, W, F, FW):
                 for c in range(8):
                     fk[c] = 0.0
             else:
-                fluid_at(t, px, py, pz, K, fk)
+                # (a system without water kinematics is always still, and its kernels take
+                # core.features.NoWater, without the arrays fluid_at reads)
+                when(W, WATER, fluid_at, (t, px, py, pz, K, fk))
             if pz > fk[6]:
                 continue  # dry
             wx = W.bw[i, 0]
