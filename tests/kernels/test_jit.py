@@ -362,6 +362,29 @@ def test_compile_returns_the_entry_point_that_fastcall_relies_on():
     assert fn(np.full(2, 3.0), 2.0) == 6.0
 
 
+def test_fast_typeof_is_numbas_typeof():
+    """compile_for looks types up by the structure of the arguments (``jit.fast_typeof``): it must
+    give numba's own ``typeof`` for every kind of value a kernel takes, and a value that differs
+    only in what numba's type holds (layout, read-only, dtype, tuple class) must not get the type
+    of one met before."""
+    from moorline.core.jit import fast_typeof
+
+    a = np.zeros((4, 3))
+    ro = np.zeros(3)
+    ro.flags.writeable = False
+    values = [a, a.T, a[:, 1], a[::2], np.zeros(3, dtype=np.int64), np.zeros(0), np.zeros(()), ro, np.zeros((1, 1)),
+              1.0, 2, -(2 ** 62), True, None, np.int64(3), np.float64(1.0), np.float32(1.0),
+              (a, 1.0), _Arrays(np.ones(3), np.ones(2)), _Arrays(np.ones(3), ro), (), ((a, None), (True, 2))]
+    for _ in range(2):  # the second time from the kept types
+        for v in values:
+            assert fast_typeof(v) == typeof(v), v
+    assert fast_typeof(2 ** 63) == typeof(2 ** 63)  # (not kept: typed by numba each time)
+    s = System.from_file(EXAMPLES / "wec_cable" / "wec_cable.dat")
+    for _ in range(2):
+        for arg in s._kernel_arrays():
+            assert fast_typeof(arg) == typeof(arg)
+
+
 def test_fastcall_retypes_when_an_argument_changes_type():
     from moorline.core.jit import FastCall
 

@@ -136,11 +136,50 @@ def derivative_kernel(fn):
     return kernel(fn, fastmath=True, forceinline=True)
 
 
+#: numba types of argument structures already met (:func:`_type_key` -> numba type)
+_TYPES: dict = {}
+
+
+def _type_key(a):
+    """What numba's ``typeof`` of ``a`` depends on, as a hashable key, or None for a value this
+    does not know (typed by ``typeof`` itself, every time). An array's type is its dtype, number
+    of dimensions, layout (C, F or neither) and whether it is read-only
+    (``numba.core.typing.typeof._typeof_ndarray``); a tuple's, its class and its items' types;
+    a Python int's, whether it fits in 64 signed bits; other scalars', their class."""
+    t = type(a)
+    if t is np.ndarray:
+        f = a.flags
+        return (a.dtype, a.ndim, f.c_contiguous, f.f_contiguous, f.writeable)
+    if t is float or t is bool or a is None or isinstance(a, np.number):
+        return t
+    if t is int:
+        return t if a.bit_length() < 64 else None
+    if isinstance(a, tuple):
+        items = tuple(map(_type_key, a))
+        return None if None in items else (t, items)
+    return None
+
+
+def fast_typeof(a):
+    """numba's ``typeof(a)``, looked up by the structure of ``a`` once it has been met. numba types a
+    tuple in Python, item by item (about 15 us per array): the eight NamedTuples of some 260
+    arrays that every kernel entry point is looked up with cost 2-4 ms per lookup, and a start
+    looks up a dozen (13 ms of the 36 ms start-up of section 2's lazy-wave cable); the key costs
+    under 1 us per array."""
+    k = _type_key(a)
+    if k is None:
+        return typeof(a)
+    ty = _TYPES.get(k)
+    if ty is None:
+        ty = _TYPES[k] = typeof(a)
+    return ty
+
+
 def compile_for(dispatcher, args):
     """Compile ``dispatcher`` (or load it from numba's cache) for the types of ``args``, without
     running it: the specialisation a later ``dispatcher(*args)`` call uses. Returns its compiled
     entry point (what :meth:`numba.core.dispatcher.Dispatcher.compile` returns)."""
-    return dispatcher.compile(tuple(typeof(a) for a in args))
+    return dispatcher.compile(tuple(map(fast_typeof, args)))
 
 
 class FastCall:
