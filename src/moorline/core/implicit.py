@@ -113,6 +113,12 @@ def gen_alpha_parameters(rho: float) -> tuple[float, float, float, float]:
 CONTACT_TOL = 0.1
 
 
+def jacobian_evaluations(ncomp, col_ptr, col_units) -> int:
+    """Derivative evaluations of one coloured Jacobian: per colour, one per component of its widest
+    unit (``ImplicitArrays`` ``ncomp``, ``col_ptr``, ``col_units``)."""
+    return sum(int(ncomp[col_units[col_ptr[c]:col_ptr[c + 1]]].max()) for c in range(col_ptr.size - 1))
+
+
 def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, atol_v: float = 1e-5,
                    max_iter: int = 20, contact_tol: float = CONTACT_TOL) -> ImplicitArrays:
     """Structure of the implicit solve for ``layout``: colouring, banded order, and the internal line
@@ -179,9 +185,7 @@ def build_implicit(layout: Layout, rho: float = RHO_INF, atol_x: float = 1e-6, a
     pinv[perm] = np.arange(ndof)
     best = (perm, pinv)
     am, af, beta, gamma = gen_alpha_parameters(rho)
-    # derivative evaluations of a Jacobian: per colour, one per component of its widest unit
-    jac_evals = sum(int(ncomp[col_units[col_ptr[c]:col_ptr[c + 1]]].max()) for c in range(nc))
-    slow = max(SLOW_ITER, SLOW_SHARE * jac_evals)
+    slow = max(SLOW_ITER, SLOW_SHARE * jacobian_evaluations(ncomp, col_ptr, col_units))
     par = np.array([am, af, beta, gamma, atol_x, atol_v, float(max_iter), rho, 1.0, contact_tol, THETA_MAX,
                     slow, GROWTH, PREDICTOR])
     L = layout.lines

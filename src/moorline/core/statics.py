@@ -10,11 +10,10 @@ import copy
 import math
 
 import numpy as np
-from numba import typeof
 
 from .integrate import FINAL_END, advance
 from .jacobian import S_NJAC, S_NRHS, assemble, clear, copy2, displace, factor, fd_steps, shift_colour, solve_increment
-from .jit import compile_for, kernel
+from .jit import compile_for, fast_typeof, kernel
 from .linestates import xs_offset
 from .rhs import rhs_call
 
@@ -313,7 +312,7 @@ class StaticEval:
         L, R, P, E0, B, Mo, W, F, FW = self.nt
         if E is E0:
             return self
-        if typeof(E) != typeof(E0):
+        if fast_typeof(E) != fast_typeof(E0):
             raise TypeError("StaticEval.with_env: the environment's numba type differs from the one the entry "
                             "points were compiled for")
         other = copy.copy(self)
