@@ -143,6 +143,15 @@ def _line_reach(layout: Layout, li: int) -> int:
     return 2 if (L.EI[li] > 0.0 or L.ei_tab[li, 1] > 0) else 1
 
 
+def _rod_units(layout: Layout, k: int) -> list[int]:
+    """State units of rod ``k`` itself: its 3-DOF row (pinned) or 6-DOF block (free), if any."""
+    R = layout.rigid
+    out = [int(R.rod_row[k])] if R.rod_row[k] >= 0 else []
+    if R.rod_blk[k] >= 0:
+        out.append(layout.n_rows + int(R.rod_blk[k]))
+    return out
+
+
 def _end_units(layout: Layout, li: int, side: int) -> list[int]:
     """State units that set the position of end ``side`` of line ``li``."""
     L, P, R = layout.lines, layout.points, layout.rigid
@@ -155,10 +164,7 @@ def _end_units(layout: Layout, li: int, side: int) -> list[int]:
         elif P.kind[k] == P_BODY and R.body_blk[P.body[k]] >= 0:
             out.append(n3 + int(R.body_blk[P.body[k]]))
     else:
-        if R.rod_row[k] >= 0:
-            out.append(int(R.rod_row[k]))
-        if R.rod_blk[k] >= 0:
-            out.append(n3 + int(R.rod_blk[k]))
+        out += _rod_units(layout, k)
         b = int(R.rod_body[k])
         if b >= 0 and R.body_blk[b] >= 0:
             out.append(n3 + int(R.body_blk[b]))
@@ -207,8 +213,7 @@ def dependency_graph(layout: Layout) -> list[set]:
         if b < 0 or R.body_blk[b] < 0:
             continue
         bu = n3 + int(R.body_blk[b])
-        for ru in ([int(R.rod_row[k])] if R.rod_row[k] >= 0 else []) + \
-                  ([n3 + int(R.rod_blk[k])] if R.rod_blk[k] >= 0 else []):
+        for ru in _rod_units(layout, k):
             junction.setdefault(bu, set()).update(junction.get(ru, set()) | {ru})
     # floating bodies solved together (coupling added mass, radiation, joints): each sees what
     # every member of its group sees, and the members see each other
@@ -227,9 +232,7 @@ def dependency_graph(layout: Layout) -> list[set]:
     # a rod are linked as one line through it (the rod's units one node), within the larger of
     # their reaches: the nodes near the rod on either side, not all of them with each other
     for k, ends in at_rod.items():
-        rod_units = [int(R.rod_row[k])] if R.rod_row[k] >= 0 else []
-        if R.rod_blk[k] >= 0:
-            rod_units.append(n3 + int(R.rod_blk[k]))
+        rod_units = _rod_units(layout, k)
         for a in range(len(ends)):
             for b in range(a + 1, len(ends)):
                 w = max(ends[a][0], ends[b][0])
