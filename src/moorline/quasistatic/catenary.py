@@ -99,6 +99,7 @@ __all__ = [
     "catenary_nodes",
     "catenary_profile",
     "catenary_solve",
+    "grounded_catenary_nodes",
 ]
 
 STATUS_OK = 0
@@ -667,3 +668,121 @@ def catenary(XF, ZF, L, EA, W, seabed=False, n=50, *, tol=DEFAULT_TOL, max_iter=
         CatenaryStatus(int(status)),
         int(iterations),
     )
+
+
+# ------------------------------------------------------------------------------------------------
+# a line hanging from two ends above the seabed and lying on it between them
+# ------------------------------------------------------------------------------------------------
+def _hang(h, a):
+    """Horizontal extent and arc length of a catenary of parameter ``a`` = H / W [m] from a point
+    where it is horizontal up to a height ``h`` >= 0 [m] above it: a acosh(1 + h/a) and
+    sqrt(h^2 + 2 a h) (acosh through log1p: accurate for h << a)."""
+    t = h / a
+    return a * math.log1p(t + math.sqrt(t * (t + 2.0))), math.sqrt(h * h + 2.0 * a * h)
+
+
+def _grounded_parameter(X, hA, hB, L):
+    """a = H / W of the inextensible grounded shape (see :func:`grounded_catenary_nodes`), or NaN
+    when it has none. g(a) = xA + xB + (L - sA - sB) - X rises with a from L - X - hA - hB
+    (a -> 0: straight up and down) to L - X (a -> inf): a root needs L < X + hA + hB and L > X."""
+    def g(a):
+        xa, sa = _hang(hA, a)
+        xb, sb = _hang(hB, a)
+        return xa + xb + L - sa - sb - X
+
+    if not (L < X + hA + hB and L > X):
+        return math.nan
+    lo = 1e-12 * max(X, 1.0)
+    hi = max(X, 1.0)
+    for _ in range(200):
+        if g(hi) > 0.0:
+            break
+        lo, hi = hi, 4.0 * hi
+    else:
+        return math.nan
+    if g(lo) >= 0.0:
+        return math.nan
+    from scipy.optimize import brentq
+
+    return brentq(g, lo, hi, xtol=1e-14 * hi, rtol=4.0 * np.finfo(float).eps, maxiter=500)
+
+
+def grounded_catenary_nodes(rA, rB, L, N, EA, W, zb, out):
+    """Place the N+1 nodes of a sinking line (``W`` > 0) whose two ends hang above a flat,
+    frictionless seabed at height ``zb`` [m] but which is long enough to lie on it between them:
+    a catenary hanging from each end down to a touchdown where it meets the seabed level with zero
+    slope, and a straight run along the seabed in between, all at the same horizontal tension H.
+
+    :func:`catenary_nodes` knows a seabed only through the lower end (spec 6.2, as MoorDyn's start):
+    for ends above the seabed it gives the free catenary, whose sag may run through the seabed.
+    This is the shape a line then takes at rest. It is solved inextensible (one equation in
+    H / W, by Brent's method), then stretched once by the seabed tension: the unstretched length
+    becomes L (1 + H / EA) with H from the inextensible shape (the hanging parts carry more
+    tension; a start guess needs no more).
+
+    Parameters
+    ----------
+    rA, rB : ndarray, shape (3,)
+        End positions [m], z up, both at or above ``zb`` (an end below is taken at ``zb``).
+    L : float
+        Unstretched length [m].
+    N : int
+        Number of segments.
+    EA : float
+        Axial stiffness [N].
+    W : float
+        Wet weight per unit length [N/m].
+    zb : float
+        Seabed height [m].
+    out : ndarray, shape (N+1, 3)
+        Output, written only on success: node i at unstretched arc length ``i L / N`` from end A;
+        nodes 0 and N are ``rA`` and ``rB``.
+
+    Returns
+    -------
+    H : float
+        Horizontal tension [N] of the placed shape, or NaN (``out`` untouched) when the line has
+        no such shape: ``W`` <= 0, a horizontal span under :data:`SHORT_SPAN`, a line too short
+        to reach the seabed (its free catenary is the shape) or too long to lie as a double "L"
+        (straight down from each end and along the seabed between them).
+    """
+    rA = np.asarray(rA, dtype=float)
+    rB = np.asarray(rB, dtype=float)
+    d = rB[:2] - rA[:2]
+    X = float(np.hypot(d[0], d[1]))
+    if not (W > 0.0 and L > 0.0 and EA > 0.0 and N >= 1 and X >= SHORT_SPAN):
+        return math.nan
+    u = d / X
+    hA = max(float(rA[2]) - zb, 0.0)
+    hB = max(float(rB[2]) - zb, 0.0)
+    a = _grounded_parameter(X, hA, hB, L)
+    if not math.isfinite(a):
+        return math.nan
+    Ls = L * (1.0 + a * W / EA)
+    a = _grounded_parameter(X, hA, hB, Ls)
+    if not math.isfinite(a):
+        return math.nan
+    xA, sA = _hang(hA, a)
+    _, sB = _hang(hB, a)
+    sG = Ls - sA - sB
+    if sG < 0.0:  # (the line does not reach the seabed)
+        return math.nan
+    for i in range(1, N):
+        s = Ls * i / N
+        if s <= sA:  # hanging from end A: sigma along the line from the touchdown
+            sig = sA - s
+            x = xA - a * math.asinh(sig / a)
+            z = zb + math.sqrt(a * a + sig * sig) - a
+        elif s <= sA + sG:
+            x = xA + (s - sA)
+            z = zb
+        else:
+            sig = s - sA - sG
+            x = xA + sG + a * math.asinh(sig / a)
+            z = zb + math.sqrt(a * a + sig * sig) - a
+        out[i, 0] = rA[0] + x * u[0]
+        out[i, 1] = rA[1] + x * u[1]
+        out[i, 2] = z
+    out[0] = rA
+    out[N] = rB
+    return a * W

@@ -42,7 +42,7 @@ from ..core.rigid import body_kinematics, body_point_kinematics, rod_kinematics,
 from ..core.seabed import resting_penetration, seabed_at
 from ..core.statics import StaticEval, dynamic_relaxation, newton_statics, stationary_solve
 from ..errors import SimulationError
-from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes
+from ..quasistatic.catenary import STATUS_OK, STATUS_SHORT_SPAN, catenary_nodes, grounded_catenary_nodes
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -215,6 +215,46 @@ def fold_too_long_lines(sys: System, W) -> None:
         out = np.zeros((int(lay.line_N[li]) + 1, 3))
         folded_l_nodes(rA, rB, float(lay.line_L[li]), out.shape[0] - 1, out)
         place_line(lay, li, out, sys.y)
+
+
+def ground_dipping_lines(sys: System, W) -> list[int]:
+    """Newton's start for the sinking lines that hang from two ends above the seabed and whose
+    catenary start dipped below it: :func:`catenary_start` (as MoorDyn's start) gives such a line
+    its free catenary, and :func:`place_line` lifts the nodes below the seabed onto it, which leaves
+    them bunched up on it, their segments slack (the lazy-wave benchmark cable's 62 m hub line
+    at 15 segments: 2-11 % short). Newton cannot pull a slack run straight (no axial stiffness
+    until it is), and crept at one segment per few iterations. These lines start instead on
+    :func:`~moorline.quasistatic.catenary.grounded_catenary_nodes`: hanging from each end down
+    to the seabed and lying straight on it between. The seabed height is that under the lifted
+    nodes (their mean, for a bathymetry grid). Returns the numbers of the lines placed so."""
+    lay = sys.layout
+    L, E, B = lay.lines, lay.env, lay.seabed
+    folded = set(sys.ic_report.get("catenary_too_long", []))
+    placed = []
+    for li in range(len(lay.line_N)):
+        wsub = (L.w[li] - E.rho * L.A[li]) * E.g
+        if wsub <= 0.0 or li + 1 in folded:
+            continue
+        rA, rB = end_points(lay, li, W)
+        # (catenary_start's test of an end on the seabed, negated)
+        if any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB)):
+            continue
+        lifted = []
+        for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
+            k = 3 * int(L.node_row[n])
+            zb = seabed_at(B.gx, B.gy, B.gz, E.depth, sys.y[k], sys.y[k + 1])[0]
+            if sys.y[k + 2] <= zb + 1e-9 * max(1.0, abs(zb)):
+                lifted.append(zb)
+        if not lifted:
+            continue
+        N = int(lay.line_N[li])
+        out = np.zeros((N + 1, 3))
+        EA = float(L.seg_EA[L.seg_ptr[li]])
+        H = grounded_catenary_nodes(rA, rB, float(lay.line_L[li]), N, EA, wsub, float(np.mean(lifted)), out)
+        if np.isfinite(H):
+            place_line(lay, li, out, sys.y)
+            placed.append(li + 1)
+    return placed
 
 
 def folded_l_nodes(rA: np.ndarray, rB: np.ndarray, L: float, N: int, out: np.ndarray) -> None:
@@ -420,6 +460,9 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     # on its chord; Newton's start has it folded on the seabed
     y_moordyn = sys.y.copy()
     fold_too_long_lines(sys, W)
+    grounded = ground_dipping_lines(sys, W)
+    if grounded:
+        sys.ic_report["catenary_grounded"] = grounded
     y_start = sys.y.copy()
     t0 = time.perf_counter()
     sink_into_seabed(sys, E)
