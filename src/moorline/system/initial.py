@@ -162,6 +162,19 @@ def rigid_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W) -> None
         body_point_kinematics(P, W)
 
 
+def wet_weight(L, E, li: int) -> float:
+    """Submerged weight per unit length of line ``li`` of LineArrays ``L`` in the water of
+    EnvArrays ``E`` [N/m] (negative: buoyant)."""
+    return float((L.w[li] - E.rho * L.A[li]) * E.g)
+
+
+def end_on_seabed(layout: Layout, r) -> bool:
+    """True when a line end at ``r`` lies on (or below) the local seabed: the catenary start then
+    solves the line with a seabed through it (spec 6.2)."""
+    E, B = layout.env, layout.seabed
+    return bool(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5))
+
+
 def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_tol: float = 1e-5) -> list[int]:
     """Place rigid objects at their deck pose (:func:`rigid_start`), then every line on its
     quasi-static catenary (spec 6.2); velocities zero. Returns ``(line index, status)`` of the
@@ -169,16 +182,14 @@ def catenary_start(layout: Layout, x_coupled: np.ndarray, y: np.ndarray, W, cat_
     placed on its chord by design and is not a failure)."""
     rigid_start(layout, x_coupled, y, W)
     L = layout.lines
-    E = layout.env
-    B = layout.seabed
     failed = []
     for li in range(len(layout.line_N)):
         rA, rB = end_points(layout, li, W)
         N = int(layout.line_N[li])
         out = np.zeros((N + 1, 3))
-        Wl = (L.w[li] - E.rho * L.A[li]) * E.g
+        Wl = wet_weight(L, layout.env, li)
         # a seabed at the lower end's level, if an end lies on (or below) the local seabed
-        seabed = any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB))
+        seabed = end_on_seabed(layout, rA) or end_on_seabed(layout, rB)
         EA = float(L.seg_EA[L.seg_ptr[li]])
         status, _, _ = catenary_nodes(rA, rB, float(layout.line_L[li]), N, EA, Wl, seabed, cat_tol, out)
         if status not in (STATUS_OK, STATUS_SHORT_SPAN):
@@ -232,13 +243,12 @@ def ground_dipping_lines(sys: System, W) -> list[int]:
     folded = set(sys.ic_report.get("catenary_too_long", []))
     placed = []
     for li in range(len(lay.line_N)):
-        wsub = (L.w[li] - E.rho * L.A[li]) * E.g
+        wsub = wet_weight(L, E, li)
         if wsub <= 0.0 or li + 1 in folded:
             continue
         rA, rB = end_points(lay, li, W)
-        # (catenary_start's test of an end on the seabed, negated)
-        if any(r[2] <= seabed_at(B.gx, B.gy, B.gz, E.depth, r[0], r[1])[0] * (1.0 - 1e-5) for r in (rA, rB)):
-            continue
+        if end_on_seabed(lay, rA) or end_on_seabed(lay, rB):
+            continue  # (the catenary start had its seabed)
         lifted = []
         for n in range(int(L.node_ptr[li]) + 1, int(L.node_ptr[li + 1]) - 1):
             k = 3 * int(L.node_row[n])
@@ -554,7 +564,7 @@ def sink_into_seabed(sys: System, E) -> None:
     if E.kBot <= 0.0:
         return
     for li in range(len(sys.layout.line_N)):
-        wsub = (L.w[li] - E.rho * L.A[li]) * E.g
+        wsub = wet_weight(L, E, li)
         if wsub <= 0.0 or L.d[li] <= 0.0:
             continue
         pen = resting_penetration(wsub / (E.kBot * L.d[li]), E.bed_blend)
