@@ -425,6 +425,66 @@ def test_curvature_on_circular_arc():
             assert np.max(np.abs(k[1:-1] * R - 1.0)) > 1e-6
 
 
+
+@pytest.mark.parametrize("ei", [1.0e5, 0.0])
+@pytest.mark.parametrize("delta", [1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 0.5])
+def test_curvature_of_a_nearly_straight_line(delta, ei):
+    """Two 1 m segments with the middle node lifted by ``delta``: the kink angle is 2 atan(delta),
+    so kappa = (4/lam) sin(theta/2) = 2 delta/(1 + delta^2) exactly (lam = 2 sqrt(1 + delta^2)),
+    and the bending force on the middle node is -2 (M/l) cos(theta/2) along z (M = EI kappa, l the
+    segment length), linear in delta for small delta. Held to 1e-12 relative (a few round-offs of
+    the unit vectors) at every delta. Without EI the curvature output is computed from the node
+    positions (``LineView.node_curvatures``, the same formula vectorised); held the same way.
+
+    MoorDyn's formula (4/lam) sqrt((1 - a.b)/2) loses the curvature of a nearly straight line to
+    the cancellation in 1 - a.b (relative error eps/theta^2: 2e-4 at delta = 1e-6) and returns 0
+    below theta = 2e-8 rad: it fails here for delta <= 1e-6, and that force noise held Newton
+    statics of a finely meshed cable on the seabed above its tolerance (next test)."""
+    m = free_model(ei=ei)
+    a = m.add_point("fixed", (0.0, 0.0, Z0))
+    b = m.add_point("fixed", (2.0, 0.0, Z0))
+    m.add_line("cable", a, b, L=2.0, N=2)
+    s = System(m)
+    s.init(solve_ic=False)
+    r = np.array([[0.0, 0.0, Z0], [1.0, 0.0, Z0 + delta], [2.0, 0.0, Z0]])
+    s.set_state(line_positions=[r])
+    delta = r[1, 2] - Z0  # the lift as stored (Z0 + delta rounds at 1.4e-14 m), exact by Sterbenz
+    k = s.lines[0].node_curvatures()
+    k_ref = 2.0 * delta / (1.0 + delta * delta)
+    assert k[0] == 0.0 and k[2] == 0.0
+    assert k[1] == pytest.approx(k_ref, rel=1e-12, abs=0.0)
+    if ei == 0.0:
+        return
+    # the middle node's bending force: the couple EI kappa of the two end forces (M/l) e x p,
+    # each of magnitude M/l; their sum points down along -z with 2 (M/l) cos(theta/2)
+    fz = s.work.Fbend[1, 2]
+    l = math.sqrt(1.0 + delta * delta)
+    fz_ref = -2.0 * ei * k_ref / l / l  # 2 M/l cos(theta/2), cos(theta/2) = 1/l
+    assert fz == pytest.approx(fz_ref, rel=1e-12, abs=0.0)
+
+
+def test_newton_statics_of_a_fine_cable_with_ei_on_the_seabed():
+    """A light cable with EI (the lazy-wave cable's: EA 94.3 kN, EI 350 N m^2, 40 mm, 2.75 kg/m)
+    from an anchor on the seabed to a fixed point 30 m above it, 20 m of it resting on the
+    seabed, on 0.25 m segments, with the implicit scheme's Newton statics. With MoorDyn's
+    curvature formula the straight run on the seabed carried a bending force noise of about
+    EI 4e-8/(lam l) = 1e-4 N per node, 1e-4 m/s^2: Newton stalled there, ten times above its
+    tolerance of 1e-5 m/s^2, and the start failed. Now the first Newton solve converges (status,
+    route and residual asserted)."""
+    env = Environment(g=G, rho=RHO, depth=50.0, kBot=1.0e5, cBot=1.0e3)
+    m = Model(env=env, options=Options(dtM=0.01, tScheme="GenAlpha"))
+    m.add_line_type("cable", d=0.04, w=2.75, EA=94.3e3, BA=-0.5, EI=350.0)
+    a = m.add_point("fixed", (0.0, 0.0, -50.0))
+    b = m.add_point("fixed", (40.0, 0.0, -20.0))
+    m.add_line("cable", a, b, L=60.0, N=240)
+    s = System(m, scheme="GenAlpha")
+    s.init()
+    rep = s.ic_report
+    assert rep["converged"] and rep["method"] == "newton", rep
+    assert rep["max_acceleration"] <= 1e-5
+    r = s.lines[0].node_positions()
+    assert np.sum(r[:, 2] < -50.0) > 40  # a run on the seabed (the straight part the noise was on)
+
 # the four pairings of a line end with a rod end, and the direction the cable leaves the rod
 # (spec 3.10): end A on rod end B: +q_r; end A on rod end A: -q_r; end B on rod end A: +q_r
 # (the cable runs into the rod); end B on rod end B: -q_r

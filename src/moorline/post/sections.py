@@ -43,7 +43,6 @@ import xarray as xr
 
 log = logging.getLogger("moorline")
 
-_EPS = 2.220446049250313e-16
 #: |e_z x t| below which a tangent counts as vertical when the horizontal normal is formed
 VERTICAL_TOL = 1e-6
 
@@ -138,13 +137,15 @@ def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return v / np.where(n > 0.0, n, 1.0)[..., None], n
 
 
-def _kappa(lam: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The kernel's curvature (4/lam) sqrt((1 - a.b)/2) and unit bending axis a x b, vectorised."""
-    c = np.einsum("...k,...k->...", a, b)
-    ok = (c < 1.0 - _EPS) & (lam > 0.0)
-    kap = np.where(ok, 4.0 / np.where(lam > 0.0, lam, 1.0) * np.sqrt(np.clip(0.5 * (1.0 - c), 0.0, None)), 0.0)
+def curvature(lam: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel's curvature (4/lam) sin(theta/2) = (2/lam) |a - b| between unit vectors ``a``
+    and ``b`` (last axis) over the length ``lam``, and the unit bending axis a x b, vectorised
+    (see ``moorline.core.lines._kappa``: the chord, not MoorDyn's sqrt((1 - a.b)/2), which
+    cancels to round-off on a nearly straight line). Zero where a = b or lam <= 0."""
+    kap = 2.0 / np.where(lam > 0.0, lam, 1.0) * np.linalg.norm(a - b, axis=-1)
+    ok = (kap > 0.0) & (lam > 0.0)
     p, _ = _unit(np.cross(a, b))
-    return kap, np.where(ok[..., None], p, 0.0)
+    return np.where(ok, kap, 0.0), np.where(ok[..., None], p, 0.0)
 
 
 def _horizontal_normal(t: np.ndarray) -> np.ndarray:
@@ -232,7 +233,7 @@ def section_loads(ds: xr.Dataset, line: int | None = None, *, model=None, EI=Non
     p = np.zeros((T, n, 3))
     t = np.empty((T, n, 3))
     if n > 2:
-        kap[:, 1:-1], p[:, 1:-1] = _kappa(seg_l[:, :-1] + seg_l[:, 1:], e[:, :-1], e[:, 1:])
+        kap[:, 1:-1], p[:, 1:-1] = curvature(seg_l[:, :-1] + seg_l[:, 1:], e[:, :-1], e[:, 1:])
         bis, nb = _unit(e[:, :-1] + e[:, 1:])
         t[:, 1:-1] = np.where((nb > 0.0)[..., None], bis, e[:, :-1])  # a folded node keeps e_{i-1}
     t[:, 0] = e[:, 0]
@@ -241,7 +242,7 @@ def section_loads(ds: xr.Dataset, line: int | None = None, *, model=None, EI=Non
         if q is not None:
             qq = np.broadcast_to(q, e[:, end].shape)
             a, b = (qq, e[:, 0]) if end == 0 else (e[:, -1], qq)
-            kap[:, end], p[:, end] = _kappa(seg_l[:, end], a, b)
+            kap[:, end], p[:, end] = curvature(seg_l[:, end], a, b)
             bis, nb = _unit(a + b)
             t[:, end] = np.where((nb > 0.0)[..., None], bis, e[:, end])
         elif "node_curvature" in sub and np.any(sub.node_curvature.values[:, end] > 0.0):

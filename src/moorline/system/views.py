@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..model import angles_xyz
+from ..post.sections import curvature
 
 if TYPE_CHECKING:
     from .runtime import System
@@ -63,11 +64,10 @@ class LineView:
         r = self._s.work.r[self._n]
         d = np.diff(r, axis=0)
         ls = np.linalg.norm(d, axis=1)
+        e = d / np.where(ls > 0.0, ls, 1.0)[:, None]
         k = np.zeros(len(r))
-        ok = (ls[:-1] > 0) & (ls[1:] > 0)
-        c = np.einsum("ij,ij->i", d[:-1], d[1:]) / np.where(ok, ls[:-1] * ls[1:], 1.0)
-        k[1:-1] = np.where(ok & (c < 1.0 - 2.220446049250313e-16),
-                           4.0 / (ls[:-1] + ls[1:]) * np.sqrt(np.clip(0.5 * (1.0 - c), 0.0, None)), 0.0)
+        kap, _ = curvature(ls[:-1] + ls[1:], e[:-1], e[1:])
+        k[1:-1] = np.where((ls[:-1] > 0.0) & (ls[1:] > 0.0), kap, 0.0)
         return k
 
     def node_bending_moments(self) -> np.ndarray:
