@@ -24,6 +24,11 @@ continuation stages of :func:`moorline.system.initial.newton_ic` must finish the
 5. Invariant: the equilibrium does not depend on the route. case2 solved by the seabed-blend
    continuation and, with that stage switched off, by implicit relaxation and Newton: the same
    state within 1e-6 m.
+6. ``BeamCantilevered.txt`` with the implicit scheme: its short first solves (30 iterations) and
+   the relaxation routes do not find the equilibrium, which RK2's long ones (250) do in the
+   seabed-blend continuation. The implicit scheme has no explicit start to fall back on, so it
+   raised; it now takes the explicit schemes' budgets last, and starts where RK2 does (within
+   1e-6 m, the update tolerance's thousandfold).
 """
 
 from __future__ import annotations
@@ -40,6 +45,7 @@ from moorline.system import System
 
 SHARED = Path(os.environ.get("MOORLINE_SHARED", Path(__file__).resolve().parents[3] / "shared"))
 DECKS = SHARED / "public_decks"
+BEAM = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "BeamCantilevered.txt"
 LIFTING = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "lifting.txt"
 CASE2 = DECKS / "NREL+MoorPy" / "tests" / "case2.dat"
 CASE5 = DECKS / "NREL+MoorPy" / "tests" / "case5.dat"
@@ -53,8 +59,8 @@ def _need(path: Path) -> None:
         pytest.skip(f"{path} not available")
 
 
-def _started(path: Path) -> System:
-    s = System(read_deck(path))
+def _started(path: Path, scheme: str | None = None) -> System:
+    s = System(read_deck(path), scheme=scheme)
     x0 = s.deck_coupled_positions()
     s.init(x0, np.zeros_like(x0))
     return s
@@ -111,6 +117,18 @@ def test_the_equilibrium_does_not_depend_on_the_route(monkeypatch):
     monkeypatch.setattr(initial, "BLEND_WIDTHS", ())
     b = _started(CASE2)
     assert b.ic_report["converged"] and "relaxation" in b.ic_report["method"], b.ic_report
+    n = a.layout.u_offset
+    assert np.max(np.abs(a.y[:n] - b.y[:n])) < 1e-6
+
+
+def test_implicit_scheme_falls_back_on_the_explicit_budgets():
+    _need(BEAM)
+    a = _started(BEAM, "GenAlpha")
+    rep = a.ic_report
+    assert rep["converged"] and rep["method"].endswith("(after the relaxation routes)"), rep
+    assert rep["residual"] < 1e-5
+    b = _started(BEAM, "RK2")
+    assert b.ic_report["converged"] and b.ic_report["method"] == "seabed-blend continuation + newton"
     n = a.layout.u_offset
     assert np.max(np.abs(a.y[:n] - b.y[:n])) < 1e-6
 

@@ -460,7 +460,10 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     2. implicit dynamic relaxation within the deck's TmaxIC (generalized-alpha with maximal
        numerical damping, drag scaled by CdScaleIC, steps of up to dtIC), then Newton;
     3. relaxation-Newton alternation (:data:`RELAX_CHUNK`, :data:`RELAX_STEP`,
-       :data:`RELAX_BUDGET`): slack and lightly damped systems far from their start.
+       :data:`RELAX_BUDGET`): slack and lightly damped systems far from their start;
+    4. with the implicit scheme, whose first solves are short (:data:`NEWTON_FIRST_IT`), the first
+       solve and the continuation again with the explicit schemes' budgets
+       (:data:`NEWTON_FIRST_IT_EXPLICIT`): the implicit scheme has no explicit start to fall back on.
 
     Every route ends in a Newton solve on the deck's own model to the same tolerances, so the
     answer does not depend on the route beyond those. Returns False (state restored) when none
@@ -486,33 +489,39 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
         return newton_statics(sys.y, A, IW, L, R, P, env, B, sys._motion, W, F, FW, float(tau0),
                               acc_tol, dx_tol, max_it, NEWTON_GROWTH, ev=ev.with_env(env))
 
-    status, it, resid = newton(E, opts.dtIC, first)
-    relax = 0.0
-    route = "newton"
-    if status != 1 and E.kBot > 0.0:
+    def first_and_continuation(first):
+        """Newton from the start in sys.y, then (when it fails on a seabed) the seabed-blend
+        continuation: (status, iterations, residual, route)."""
+        status, it, resid = newton(E, opts.dtIC, first)
+        route = "newton"
+        if status == 1 or E.kBot <= 0.0:
+            return status, it, resid, route
         widths = [w for w in BLEND_WIDTHS if w > E.bed_blend]
-        if widths:
-            # the softened solves start from the first solve's last iterate if it is nearer rest than the
-            # start (largest residual acceleration), else from the start (74 RK2 starts of the public decks
-            # and ours: 22,799 -> 20,897 Jacobians, MoorDyn's complex_system.txt converging in the
-            # continuation instead of after 1400 iterations and an implicit relaxation)
-            y_first = sys.y.copy()
-            sys.y[:] = y_start
-            sink_into_seabed(sys, E)
-            if np.isfinite(resid) and np.all(np.isfinite(y_first)) and resid < ev.residual()[0]:
-                sys.y[:] = y_first
-            for w in widths:
-                # the softened solves need no final accuracy, only a good start for the next one; one that
-                # stops short still hands on a better start than the catenary's (MoorPy's case6: the 1 m and
-                # 0.1 m solves stop short, the 1 cm one converges)
-                y_stage = sys.y.copy()
-                st, k, _ = newton(E._replace(bed_blend=w), opts.dtIC, first, 10.0 * NEWTON_ACC_TOL, 1e-6)
-                it += k
-                if st < 0 or not np.all(np.isfinite(sys.y)):
-                    sys.y[:] = y_stage
-            status, k, resid = newton(E, opts.dtIC, NEWTON_MAX_IT)
+        if not widths:
+            return status, it, resid, route
+        # the softened solves start from the first solve's last iterate if it is nearer rest than the
+        # start (largest residual acceleration), else from the start (74 RK2 starts of the public decks
+        # and ours: 22,799 -> 20,897 Jacobians, MoorDyn's complex_system.txt converging in the
+        # continuation instead of after 1400 iterations and an implicit relaxation)
+        y_first = sys.y.copy()
+        sys.y[:] = y_start
+        sink_into_seabed(sys, E)
+        if np.isfinite(resid) and np.all(np.isfinite(y_first)) and resid < ev.residual()[0]:
+            sys.y[:] = y_first
+        for w in widths:
+            # the softened solves need no final accuracy, only a good start for the next one; one that
+            # stops short still hands on a better start than the catenary's (MoorPy's case6: the 1 m and
+            # 0.1 m solves stop short, the 1 cm one converges)
+            y_stage = sys.y.copy()
+            st, k, _ = newton(E._replace(bed_blend=w), opts.dtIC, first, 10.0 * NEWTON_ACC_TOL, 1e-6)
             it += k
-            route = "seabed-blend continuation + newton"
+            if st < 0 or not np.all(np.isfinite(sys.y)):
+                sys.y[:] = y_stage
+        status, k, resid = newton(E, opts.dtIC, NEWTON_MAX_IT)
+        return status, it + k, resid, "seabed-blend continuation + newton"
+
+    status, it, resid, route = first_and_continuation(first)
+    relax = 0.0
     if status != 1:
         sys.y[:] = y_start
         relax = implicit_relaxation(sys, A, IW, L, R, P, E, B, W, F, FW)
@@ -538,6 +547,18 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
             else:
                 stale += 1
             route = "relaxation-newton alternation"
+    if status != 1 and first < NEWTON_FIRST_IT_EXPLICIT:
+        # the implicit scheme's short first solves hand over to the relaxation early, which suits slack and
+        # lightly damped systems; one that needs the explicit schemes' long solves instead gets them last
+        # (MoorDyn's BeamCantilevered.txt: no start with GenAlpha before, 333 iterations this way, as with RK2)
+        sys.y[:] = y_start
+        sink_into_seabed(sys, E)
+        st, k, r, rt = first_and_continuation(NEWTON_FIRST_IT_EXPLICIT)
+        it += k
+        if st == 1:
+            status, resid, route = st, r, rt + " (after the relaxation routes)"
+        else:
+            sys.y[:] = y_start
     wall = time.perf_counter() - t0
     sys.ic_report.update(method=route, converged=bool(status == 1), iterations=int(it),
                          max_acceleration=float(resid), pseudo_time=relax, wall_time=wall)
