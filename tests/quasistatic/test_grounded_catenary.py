@@ -118,9 +118,10 @@ def test_lazy_wave_cable_starts_grounded_and_reaches_the_same_equilibrium(monkey
     first Newton solve gets within the residual tolerance in 37 iterations; a touchdown node then
     cycles across the contact law's kink and Newton stops on :data:`STALL_ITERS` (41 in all).
     The equilibrium is the one of the old route, catenary start and no stall test (1352 iterations,
-    converged to 1e-9 m position updates), to 1e-5 m: the stalled iterate meets the residual
-    tolerance (1e-5 m/s^2; 2.6e-6 reached), not the update one, and the buoyant arch's vertical
-    mode is soft (measured: line 2's nodes 5.5e-6 m higher, the rest within 1e-8 m)."""
+    464 since the static Jacobian's smaller finite-difference step, :data:`STATIC_FD_REL`; more than
+    five times the new route's in both cases; converged to 1e-9 m position updates), to 1e-5 m: the
+    stalled iterate meets the residual tolerance (1e-5 m/s^2; 2.6e-6 reached), not the update one,
+    and the buoyant arch's vertical mode is soft (measured: line 2's nodes 5.5e-6 m higher, the rest within 1e-8 m)."""
     from moorline import System
     from moorline.core import statics
     from moorline.system import initial
@@ -140,5 +141,5 @@ def test_lazy_wave_cable_starts_grounded_and_reaches_the_same_equilibrium(monkey
     y_old, old = start()
     assert new["catenary_grounded"] == [1]
     assert new["method"] == "newton" and new["iterations"] < 100, new
-    assert "catenary_grounded" not in old and old["iterations"] > 500, old
+    assert "catenary_grounded" not in old and old["iterations"] > 5 * new["iterations"], old
     assert np.abs(y_new - y_old).max() < 1e-5

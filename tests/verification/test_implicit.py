@@ -419,7 +419,7 @@ def test_static_jacobian_retry_with_another_diagonal_is_the_jacobian_rebuilt():
     # so both the banded block and the Schur-complement border are exercised (at the deck's
     # start: the body has no equilibrium near it, and none is needed here).
     from moorline.core.jacobian import factor
-    from moorline.core.statics import StaticEval, solve_increment
+    from moorline.core.statics import STATIC_FD_REL, StaticEval, solve_increment
 
     s = System.from_file(SHARED / "conformance/inputs/bodies_and_rods/BodiesAndRods.dat", scheme="GenAlpha")
     L, R, P, _, B, W, F, FW = s._kernel_arrays()
@@ -438,7 +438,7 @@ def test_static_jacobian_retry_with_another_diagonal_is_the_jacobian_rebuilt():
 
     def assembled_with(diag):
         # the Jacobian assembled with its diagonal in the columns, as before the retry kept -df/dx
-        ev.fd_steps(IW, ev.n3, ev.n6, 1e-7, 1.0)
+        ev.fd_steps(IW, ev.n3, ev.n6, STATIC_FD_REL, 1.0)
         ev.clear(IW)
         for cu in range(A.col_ptr.size - 1):
             for k in range(6):

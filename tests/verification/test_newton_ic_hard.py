@@ -29,6 +29,14 @@ continuation stages of :func:`moorline.system.initial.newton_ic` must finish the
    seabed-blend continuation. The implicit scheme has no explicit start to fall back on, so it
    raised; it now takes the explicit schemes' budgets last, and starts where RK2 does (within
    1e-6 m, the update tolerance's thousandfold).
+7. A chain hanging free: the tension near a free hanging end falls to the end node's weight, so
+   its segments sit within 1e-7 m of the slack kink, which the Jacobian's finite-difference step
+   must not straddle (:data:`moorline.core.statics.STATIC_FD_REL`). A 30 m chain on 60 segments,
+   its free end started 6 m aside, must come to the analytic lumped hang: vertical, each segment
+   stretched by the weight below it, z_k exact to 1e-9 m. MoorDyn's test_dynamic_currents.txt
+   (the same chain in a current) with its segments doubled must start by Newton. With a step of
+   1e-7 of the coordinate, both stayed at 0.04-38 m/s^2 and fell back on MoorDyn's unconverged
+   stationary solver.
 """
 
 from __future__ import annotations
@@ -41,6 +49,7 @@ import pytest
 
 import moorline.system.initial as initial
 from moorline.io import read_deck
+from moorline.model import Environment, Model, Options
 from moorline.system import System
 
 SHARED = Path(os.environ.get("MOORLINE_SHARED", Path(__file__).resolve().parents[3] / "shared"))
@@ -49,6 +58,7 @@ BEAM = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "BeamCantil
 LIFTING = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "lifting.txt"
 CASE2 = DECKS / "NREL+MoorPy" / "tests" / "case2.dat"
 CASE5 = DECKS / "NREL+MoorPy" / "tests" / "case5.dat"
+CURRENTS = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "wavekin_3" / "test_dynamic_currents.txt"
 VIV = DECKS / "FloatingArrayDesign+MoorDyn" / "tests" / "Mooring" / "viv" / "viv.txt"
 
 pytestmark = pytest.mark.slow
@@ -150,3 +160,39 @@ def test_moorpy_case5_line_too_long_for_an_l():
 def test_viv_start_is_measured_without_the_lift():
     s = _converged(VIV, "newton")
     assert s.layout.lines.xs_ctl[initial.XC_VIV] == 1.0  # VIV is on again for the run
+
+
+def test_chain_hanging_free_comes_to_the_analytic_hang():
+    g, rho, d, mass, EA, L, N = 9.80665, 1025.0, 0.01333, 1.1, 7.51e6, 30.0, 60
+    m = Model(env=Environment(g=g, rho=rho, depth=400.0), options=Options(dtM=1e-4, tScheme="RK2"))
+    m.add_line_type("chain", d=d, w=mass, EA=EA, BA=-0.5, EI=0.0, Cd=2.4, Ca=0.0, CdAx=0.1, CaAx=0.0)
+    top = np.array([18.0, 5.0, -10.0])
+    a = m.add_point("fixed", tuple(top))
+    b = m.add_point("free", (24.0, 5.0, -38.0))
+    m.add_line("chain", a, b, L=L, N=N)
+    s = System(m)
+    s.init()
+    rep = s.ic_report
+    assert rep["converged"] and "newton" in rep["method"], rep
+    r = s.lines[0].node_positions()
+    # segment j from the bottom (j = 1..N) carries the submerged weight of j - 1/2 segments
+    w_sub = (mass - rho * np.pi * d * d / 4.0) * g
+    l0 = L / N
+    T = w_sub * l0 * (np.arange(N, 0, -1) - 0.5)  # segments from the top
+    z = top[2] - np.concatenate([[0.0], np.cumsum(l0 * (1.0 + T / EA))])
+    np.testing.assert_allclose(r[:, 2], z, rtol=0.0, atol=1e-9)
+    np.testing.assert_allclose(r[:, :2], np.broadcast_to(top[:2], (N + 1, 2)), rtol=0.0, atol=1e-9)
+
+
+def test_chain_hanging_in_a_current_on_a_doubled_mesh_starts_by_newton():
+    _need(CURRENTS)
+    model = read_deck(CURRENTS)
+    model.options.ICNewton = 1
+    for ln in model.lines:
+        ln.N *= 2
+    s = System(model, scheme="RK2")
+    x0 = s.deck_coupled_positions()
+    s.init(x0, np.zeros_like(x0))
+    rep = s.ic_report
+    assert rep["converged"] and "newton" in rep["method"], rep
+    assert rep["residual"] < 1e-5

@@ -28,6 +28,17 @@ log = logging.getLogger(__name__)
 #: then the 400-iteration budget ran out and a dynamic relaxation followed). The iterate of the
 #: run with the smallest residual is kept.
 STALL_ITERS = 10
+#: finite-difference step of Newton statics' Jacobian, relative to each coordinate (at least 1 m).
+#: It must be small against the smallest feature of the residual near the equilibrium: the stretch
+#: of a segment near a free hanging end, where the tension falls to the end node's weight, sits
+#: that close to the slack kink (no tension when compressed): 4.4e-8 m on MoorDyn's
+#: test_dynamic_currents.txt with its segments doubled (0.25 m of 1.1 kg/m chain, EA 7.5 MN). A
+#: step of 1e-7 x 40 m straddled it, so shortening a segment by the step made it slack and the
+#: Jacobian held it a hundred times too soft: Newton stayed at 12 m/s^2 for hundreds of
+#: iterations and the start failed. 1e-10 of the coordinate is still 4.5e5 times the round-off of
+#: the perturbed coordinate (and of the segment lengths it changes): the differences keep five to
+#: six digits, which Newton does not notice.
+STATIC_FD_REL = 1e-10
 
 # -1 (evaluate the coupled trajectory on the piece that holds t), passed as np.int64(-1) in the
 # kernels: the literal -1 would make numba compile rhs once more for the type Literal[int](-1)
@@ -306,7 +317,7 @@ class StaticEval:
         n3, n6 = self.n3, self.n6
         self.velocities = compile_for(at_rest, (y, R))
         self.res = compile_for(_static_residual, (IW, self.uoff))
-        self.fd_steps = compile_for(fd_steps, (IW, n3, n6, 1e-7, 1.0))
+        self.fd_steps = compile_for(fd_steps, (IW, n3, n6, STATIC_FD_REL, 1.0))
         self.clear = compile_for(clear, (IW,))
         self.state = compile_for(_colour_state, (A, IW, y, 0, 0, n3, n6))
         self.columns = compile_for(_colour_columns, (A, IW, self.uoff, 0, 0, 1.0))
@@ -343,7 +354,7 @@ class StaticEval:
         """J = diag I - df/dx at IW.y0, factored (IW.f0 must hold f at IW.y0; ``y`` is left at
         IW.y0). Returns LU's status (0 factored)."""
         y, A, IW, n3, n6, uoff = self.y, self.A, self.IW, self.n3, self.n6, self.uoff
-        self.fd_steps(IW, n3, n6, 1e-7, 1.0)
+        self.fd_steps(IW, n3, n6, STATIC_FD_REL, 1.0)
         self.clear(IW)
         kmax = 6 if n6 > 0 else 3
         rhs, nt, f1, state, columns = self.rhs, self.nt, IW.f1, self.state, self.columns
