@@ -550,7 +550,8 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     if status != 1 and first < NEWTON_FIRST_IT_EXPLICIT:
         # the implicit scheme's short first solves hand over to the relaxation early, which suits slack and
         # lightly damped systems; one that needs the explicit schemes' long solves instead gets them last
-        # (MoorDyn's BeamCantilevered.txt: no start with GenAlpha before, 333 iterations this way, as with RK2)
+        # (MoorPy's case6.dat with its segments doubled: no GenAlpha start before, 2130 iterations this way;
+        # MoorDyn's BeamCantilevered.txt was such a case, 1463 iterations, until statics.STATIC_FD_REL)
         sys.y[:] = y_start
         sink_into_seabed(sys, E)
         st, k, r, rt = first_and_continuation(NEWTON_FIRST_IT_EXPLICIT)
