@@ -73,8 +73,12 @@ def _need(path: Path) -> None:
         pytest.skip(f"{path} not available")
 
 
-def _started(path: Path, scheme: str | None = None) -> System:
-    s = System(read_deck(path), scheme=scheme)
+def _started(path: Path, scheme: str | None = None, refine: int = 1) -> System:
+    """The deck started, with ``scheme`` and the segments of every line multiplied by ``refine``."""
+    model = read_deck(path)
+    for ln in model.lines:
+        ln.N *= refine
+    s = System(model, scheme=scheme)
     x0 = s.deck_coupled_positions()
     s.init(x0, np.zeros_like(x0))
     return s
@@ -138,21 +142,12 @@ def test_the_equilibrium_does_not_depend_on_the_route(monkeypatch):
 def test_implicit_scheme_falls_back_on_the_explicit_budgets(monkeypatch):
     _need(CASE6)
 
-    def doubled(scheme):
-        model = read_deck(CASE6)
-        for ln in model.lines:
-            ln.N *= 2
-        s = System(model, scheme=scheme)
-        x0 = s.deck_coupled_positions()
-        s.init(x0, np.zeros_like(x0))
-        return s
-
-    a = doubled("GenAlpha")
+    a = _started(CASE6, "GenAlpha", refine=2)
     rep = a.ic_report
     assert rep["converged"] and rep["method"].endswith("(after the relaxation routes)"), rep
     assert rep["residual"] < 1e-5
     monkeypatch.setattr(initial, "NEWTON_FIRST_IT", initial.NEWTON_FIRST_IT_EXPLICIT)
-    b = doubled("GenAlpha")
+    b = _started(CASE6, "GenAlpha", refine=2)
     assert b.ic_report["converged"] and "relaxation" not in b.ic_report["method"], b.ic_report
     n = a.layout.u_offset
     assert np.max(np.abs(a.y[:n] - b.y[:n])) < 1e-6
@@ -201,13 +196,7 @@ def test_chain_hanging_free_comes_to_the_analytic_hang():
 
 def test_chain_hanging_in_a_current_on_a_doubled_mesh_starts_by_newton():
     _need(CURRENTS)
-    model = read_deck(CURRENTS)
-    model.options.ICNewton = 1
-    for ln in model.lines:
-        ln.N *= 2
-    s = System(model, scheme="RK2")
-    x0 = s.deck_coupled_positions()
-    s.init(x0, np.zeros_like(x0))
+    s = _started(CURRENTS, "RK2", refine=2)  # (its ICNewton is the default, -1: Newton first)
     rep = s.ic_report
     assert rep["converged"] and "newton" in rep["method"], rep
     assert rep["residual"] < 1e-5

@@ -480,6 +480,7 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
     y_start = sys.y.copy()
     t0 = time.perf_counter()
     sink_into_seabed(sys, E)
+    y_sunk = sys.y.copy()  # where every Newton route starts
     first = NEWTON_FIRST_IT if sys.scheme == Scheme.GENALPHA else NEWTON_FIRST_IT_EXPLICIT
 
     # the compiled evaluations, looked up once for every solve below (softened seabeds included)
@@ -490,8 +491,9 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
                               acc_tol, dx_tol, max_it, NEWTON_GROWTH, ev=ev.with_env(env))
 
     def first_and_continuation(first):
-        """Newton from the start in sys.y, then (when it fails on a seabed) the seabed-blend
+        """Newton from the start (``y_sunk``), then (when it fails on a seabed) the seabed-blend
         continuation: (status, iterations, residual, route)."""
+        sys.y[:] = y_sunk
         status, it, resid = newton(E, opts.dtIC, first)
         route = "newton"
         if status == 1 or E.kBot <= 0.0:
@@ -504,8 +506,7 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
         # and ours: 22,799 -> 20,897 Jacobians, MoorDyn's complex_system.txt converging in the
         # continuation instead of after 1400 iterations and an implicit relaxation)
         y_first = sys.y.copy()
-        sys.y[:] = y_start
-        sink_into_seabed(sys, E)
+        sys.y[:] = y_sunk
         if np.isfinite(resid) and np.all(np.isfinite(y_first)) and resid < ev.residual()[0]:
             sys.y[:] = y_first
         for w in widths:
@@ -552,14 +553,10 @@ def newton_ic(sys: System, L, R, P, E, B, W, F, FW) -> bool:
         # lightly damped systems; one that needs the explicit schemes' long solves instead gets them last
         # (MoorPy's case6.dat with its segments doubled: no GenAlpha start before, 2130 iterations this way;
         # MoorDyn's BeamCantilevered.txt was such a case, 1463 iterations, until statics.STATIC_FD_REL)
-        sys.y[:] = y_start
-        sink_into_seabed(sys, E)
         st, k, r, rt = first_and_continuation(NEWTON_FIRST_IT_EXPLICIT)
         it += k
         if st == 1:
             status, resid, route = st, r, rt + " (after the relaxation routes)"
-        else:
-            sys.y[:] = y_start
     wall = time.perf_counter() - t0
     sys.ic_report.update(method=route, converged=bool(status == 1), iterations=int(it),
                          max_acceleration=float(resid), pseudo_time=relax, wall_time=wall)
