@@ -24,6 +24,7 @@ import sys
 from pathlib import Path
 from typing import NamedTuple
 
+import llvmlite.binding as llvm_binding
 import numpy as np
 import pytest
 from numba import njit, typeof
@@ -32,7 +33,7 @@ import moorline
 from moorline.core import features as F
 from moorline.core import lines as core_lines
 from moorline.core.features import RIGID, when
-from moorline.core.jit import KERNEL_OPTIONS, SAFE_FASTMATH, derivative_kernel, overlap_checks
+from moorline.core.jit import KERNEL_OPTIONS, SAFE_FASTMATH, VECTOR_WIDTH, derivative_kernel, overlap_checks
 from moorline.core.jit import kernel as make_kernel
 from moorline.core.lines import line_bending
 from moorline.core.rhs import set_water
@@ -186,6 +187,33 @@ def test_overlap_check_limit_is_left_at_llvms_default():
     assert not _PACKED.search(_asm(njit(sig, error_model="numpy")(fn)))
 
 
+def _scale_add(n, a, b):
+    for i in range(np.uint64(n)):
+        a[i] += 2.0 * b[i] * a[i]
+
+
+_PACKED_REG = re.compile(r"\bv(?:mul|add|fmadd\w*)pd\s+%?([xyz])mm")
+
+
+def test_vector_width_is_forced_inside_and_llvms_choice_after():
+    """Within ``overlap_checks`` LLVM vectorises VECTOR_WIDTH (4) doubles at a time, in 256-bit
+    registers where the processor has them, never 512-bit ones; after it, the same loop is
+    compiled with LLVM's own choice again (the same register widths as before the block)."""
+    sig = "void(int64, float64[::1], float64[::1])"
+
+    def widths():
+        return set(_PACKED_REG.findall(_asm(njit(sig, error_model="numpy")(_scale_add))))
+
+    before = widths()
+    with overlap_checks():
+        inside = widths()
+    assert VECTOR_WIDTH == 4
+    assert inside and "z" not in inside, inside
+    if llvm_binding.get_host_cpu_features().get("avx", False):
+        assert "y" in inside, inside
+    assert widths() == before
+
+
 def _calls_loads_v(n0, nN, s0, l0, wf, T, Td, q, v, U, Ud, Fb, F, H, W, M):
     core_lines._loads_v(n0, nN, s0, l0, wf, T, Td, q, v, U, Ud, Fb, F, H, W, M, 1025.0, 9.81, 100.0, 0.01, 0.1,
                         1.2, 0.4, 1.0, 0.5)
@@ -278,9 +306,20 @@ def test_stale_cache_logic_finds_numbas_cache_folder(tmp_path):
     pytest.param("catenary_3line/catenary_3line.dat", "LEuler", "stationary", marks=pytest.mark.slow),
     pytest.param("catenary_3line/catenary_3line.dat", "Heun", "dynamic", marks=pytest.mark.slow),
 ], ids=["RK2", "BEuler3", "cable", "GenAlpha-newton", "LEuler-stationary", "Heun-dynamic"])
-def test_per_deck_and_all_feature_kernels_give_identical_results(monkeypatch, deck, scheme, ic):
+def test_per_deck_and_all_feature_kernels_agree_to_round_off(monkeypatch, deck, scheme, ic):
     """The kernels compiled for a deck's own features and those compiled with every feature (the
-    test suite's) compute bit for bit the same: a feature only adds code the deck never reaches.
+    test suite's) compute the same, to round-off: a feature only adds code the deck never reaches.
+
+    Round-off, not bits: compiled in one process the two agree bit for bit, but not always when
+    numba's cache was filled by several processes (a two-worker test run). numba names a compiled
+    function after a per-process counter and its fast-math set in hash order, so the cached
+    ``integrate.advance`` of each process links the shared kernels under other names, and LLVM
+    optimises the two differently: the cached all-feature ``advance`` of such a run differed from a
+    freshly compiled one in the fast-math flags of a few multiplications of the inlined derivative,
+    where the integrator's plain arithmetic meets the derivative's fast-math arithmetic, and 143 of
+    702 state values in the last bit (2.2e-16 m) after these 5 steps (session 16, with
+    core.jit.VECTOR_WIDTH). A missing or extra feature term is many orders above the tolerance.
+
     Per deck, a system without rods, floating bodies or water kinematics passes its kernels none of
     their arrays (core.features.kernel_parts, kernel_env): every kernel it reaches, initial-condition
     solvers included (``ic``), must compile without them."""
@@ -302,7 +341,8 @@ def test_per_deck_and_all_feature_kernels_give_identical_results(monkeypatch, de
             s.step(x + 0.01 * k, np.full(s.n_coupled_dof, 0.1), 0.02 * k, 0.02)
         runs.append((s.work.features, s.y.copy(), s.work.F.copy()))
     assert runs[0][0] != runs[1][0]
-    assert np.array_equal(runs[0][1], runs[1][1]) and np.array_equal(runs[0][2], runs[1][2])
+    for a, b in ((runs[0][1], runs[1][1]), (runs[0][2], runs[1][2])):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.abs(b).max())
 
 
 def test_the_kernels_of_a_plain_deck_take_no_arrays_of_features_it_lacks(per_deck):

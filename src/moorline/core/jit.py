@@ -48,16 +48,31 @@ _CHECK_OPTIONS = (("-runtime-memory-check-threshold", 8), ("-vectorize-memory-ch
 # (the third limits the checks that index arithmetic does not wrap, which the node and segment
 # indices of one loop, offset from each other, need)
 
+#: doubles per vector in a :func:`vector_kernel`'s loops, and no interleaving of vector iterations.
+#: The lines these loops serve have 16 to a few hundred nodes, most under 60: left to itself, LLVM
+#: vectorises 8 doubles at a time where the processor has 512-bit registers (AMD Zen 4), and a
+#: 20-node line then runs two vector iterations and a scalar remainder of up to 7 nodes; on a Zen 4
+#: the line force kernel of MoorDyn's 3 x 21-node `lines` deck took 2.2 us per evaluation with 8, as
+#: long as its scalar pass, and 1.8-1.9 with 4 (benchmarks/RESULTS.md, section 6, session 15). Four
+#: is what LLVM chooses by itself for 256-bit registers (AVX2, and Intel's AVX-512 processors, which
+#: it tunes to prefer 256-bit vectors), so the width no longer depends on the processor's family.
+VECTOR_WIDTH = 4
+#: (LLVM's option, its value within :func:`overlap_checks`, its default: 0 lets LLVM choose)
+_WIDTH_OPTIONS = (("-force-vector-width", VECTOR_WIDTH, 0), ("-force-vector-interleave", 1, 0))
+
 
 def _set_check_limit(limit: int | None) -> None:
     for name, default in _CHECK_OPTIONS:
         llvm_binding.set_option("moorline", f"{name}={default if limit is None else limit}")
+    for name, value, default in _WIDTH_OPTIONS:
+        llvm_binding.set_option("moorline", f"{name}={default if limit is None else value}")
 
 
 @contextlib.contextmanager
 def overlap_checks(limit: int = VECTORIZER_CHECKS):
     """Within the block, LLVM's loop vectoriser may insert up to ``limit`` run-time overlap checks
-    per loop (and as many run-time checks of its index arithmetic); LLVM's defaults after it."""
+    per loop (and as many run-time checks of its index arithmetic), and vectorises
+    :data:`VECTOR_WIDTH` doubles at a time without interleaving; LLVM's defaults after it."""
     _set_check_limit(limit)
     try:
         yield
@@ -67,7 +82,8 @@ def overlap_checks(limit: int = VECTORIZER_CHECKS):
 
 def vector_kernel(signature: str):
     """Compile a loop kernel now, for ``signature``, with :data:`SAFE_FASTMATH` and LLVM allowed
-    :data:`VECTORIZER_CHECKS` run-time overlap checks per loop, so that LLVM vectorises its loop.
+    :data:`VECTORIZER_CHECKS` run-time overlap checks per loop, so that LLVM vectorises its loop
+    (:data:`VECTOR_WIDTH` doubles at a time).
 
     The limit is an LLVM command-line option (llvmlite's public ``set_option``), global to the
     process: it is raised for this one compilation and set back to LLVM's default right after,

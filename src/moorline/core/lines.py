@@ -555,7 +555,8 @@ def solve3(M, p, f, out):
 
 
 # ----------------------------------------------------------------------------- long lines, vectorised
-# (which lines: LineArrays.vec, set by the layout from core.layout.VECTOR_MIN_NODES)
+# (which lines: LineArrays.vec, set by the layout from core.layout.VECTOR_MIN_NODES; four doubles
+# per vector whatever the processor offers, core.jit.VECTOR_WIDTH)
 # The loops below index with unsigned integers: numba then emits no wrap-around for negative
 # indices, which keeps LLVM from vectorising ("unsafe indirect dependence"). Each loop starts by
 # checking that its (n, 3) arrays have 3 columns: past that check LLVM knows the stride of every
