@@ -81,3 +81,42 @@ def test_leuler_skips_lines_between_updates():
     diff = np.max(np.abs(le - eu)) / np.mean(np.abs(eu))
     assert diff > 0.0, "LEuler with line intervals above dtM gave Euler's result: no line was skipped"
     assert diff < 3e-2, f"LEuler differs from Euler by {diff:.3g} of the mean fairlead tension"
+
+
+COMPLEX = HANGING.parent / "complex_system.txt"
+
+
+def test_leuler_reads_nothing_a_line_not_evaluated_leaves_behind():
+    """A line not evaluated in a step keeps its loads of its last update, and the evaluation does
+    not bring its interior nodes' positions and velocities up to date (Work.r, Work.v), but for the
+    nodes next to its ends, from which a zero-length rod takes its axis (spec 3.14.4). Checked on
+    MoorDyn's ``local_euler/complex_system.txt`` (four zero-length rods between its cables, lines
+    updated every 1 to 17 steps): with every line's interior nodes set to NaN before each coupling
+    step, the forces returned and the state reached are the same bit for bit (tolerance zero: no
+    arithmetic differs). Were a node read that the evaluation leaves stale, NaN would take its
+    place: bringing none of a skipped line's nodes up to date fails this test (the rods' axes
+    change)."""
+    if not COMPLEX.is_file():
+        pytest.skip(f"{COMPLEX} not available")
+
+    def run(poison: bool):
+        s = System(read_deck(COMPLEX))
+        x0 = s.deck_coupled_positions()
+        s.init(x0, np.zeros(x0.size))
+        nodes = s.layout.lines.node_ptr
+        forces = []
+        for k in range(20):
+            if poison:
+                for li in range(len(s.model.lines)):
+                    s.work.r[nodes[li] + 1:nodes[li + 1] - 1] = np.nan
+                    s.work.v[nodes[li] + 1:nodes[li + 1] - 1] = np.nan
+            forces.append(s.step(x0 + [0.01 * k, 0.0, 0.0], [1.0, 0.0, 0.0], 0.01 * k, 0.01).copy())
+        return s, np.array(forces)
+
+    s, f = run(False)
+    nl = len(s.model.lines)
+    assert np.any(s.scheme_params[SP_LINES:SP_LINES + nl] > 2.0 * s.dtM), "no line is skipped between updates"
+    sp, fp = run(True)
+    assert np.all(np.isfinite(f))
+    assert np.array_equal(f, fp), f"largest force difference {np.max(np.abs(f - fp)):.3g} N"
+    assert np.array_equal(s.y, sp.y)

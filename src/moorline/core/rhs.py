@@ -62,6 +62,15 @@ def motion_eval(Mo, t, piece, x, v, a):
 
 
 @kernel(inline="always")
+def _node_state(y, uoff, node_row, r, v, n):
+    """Position and velocity of interior line node n from the state ``y``."""
+    o = 3 * node_row[n]
+    for c in range(3):
+        r[n, c] = y[o + c]
+        v[n, c] = y[uoff + o + c]
+
+
+@kernel(inline="always")
 def set_kinematics(t, y, L, R, P, Mo, W, piece):
     """Bodies, rods, points and line nodes from the state ``y`` and the coupled trajectory at
     time ``t`` (spec 3.16, step 1)."""
@@ -86,12 +95,18 @@ def set_kinematics(t, y, L, R, P, Mo, W, piece):
     if xc.size > 0:
         motion_eval(Mo, t, piece, xc, vc, W.ac)
     nl = node_ptr.size - 1
+    calc = L.calc
     for li in range(nl):
-        for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
-            o = 3 * node_row[n]
-            for c in range(3):
-                r[n, c] = y[o + c]
-                v[n, c] = y[uoff + o + c]
+        n1 = node_ptr[li] + 1
+        n2 = node_ptr[li + 1] - 1
+        if calc[li] == 0 and n2 - n1 > 2:
+            # local Euler, a line not evaluated now: only its nodes next to the ends are read
+            # (zero-length rods take their axis from them: rigid.zero_length_axes)
+            _node_state(y, uoff, node_row, r, v, n1)
+            _node_state(y, uoff, node_row, r, v, n2 - 1)
+            continue
+        for n in range(n1, n2):
+            _node_state(y, uoff, node_row, r, v, n)
     if L.xs_s0.size > 0:
         when(W, LINE_STATES, load_line_states, (y, L, R, W))
     if R.body_kind.size > 0:
@@ -306,7 +321,10 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
     uoff = 3 * n3 + 7 * R.dims[1]
     for i in range(3 * n3):
         dy[i] = y[uoff + i]
+    calc = L.calc
     for li in range(nl):
+        if calc[li] == 0:
+            continue  # local Euler: leuler_end writes this line's rows from its last update
         for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
             o = uoff + 3 * node_row[n]
             dy[o] = acc[n, 0]
