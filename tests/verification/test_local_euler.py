@@ -93,9 +93,9 @@ def test_leuler_reads_nothing_a_line_not_evaluated_leaves_behind():
     MoorDyn's ``local_euler/complex_system.txt`` (four zero-length rods between its cables, lines
     updated every 1 to 17 steps): with every line's interior nodes set to NaN before each coupling
     step, the forces returned and the state reached are the same bit for bit (tolerance zero: no
-    arithmetic differs). Were a node read that the evaluation leaves stale, NaN would take its
-    place: bringing none of a skipped line's nodes up to date fails this test (the rods' axes
-    change)."""
+    arithmetic differs). Were a node read that the evaluation leaves stale, the read would give NaN
+    and change the results (not always into NaN: ``zero_length_axes`` keeps a rod's last axis when
+    its sum is not finite): bringing none of a skipped line's nodes up to date fails this test."""
     if not COMPLEX.is_file():
         pytest.skip(f"{COMPLEX} not available")
 
