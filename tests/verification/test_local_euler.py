@@ -120,3 +120,78 @@ def test_leuler_reads_nothing_a_line_not_evaluated_leaves_behind():
     assert np.all(np.isfinite(f))
     assert np.array_equal(f, fp), f"largest force difference {np.max(np.abs(f - fp)):.3g} N"
     assert np.array_equal(s.y, sp.y)
+
+
+VISCO_DECK = """two viscoelastic ropes of different segment lengths (moorline test deck)
+---------------------- LINE TYPES ----------------------
+TypeName  Diam    Mass/m  EA                     BA/-zeta  EI  Cd   Ca   CdAx  CaAx
+(name)    (m)     (kg/m)  (N)                    (N-s/-)   (-) (-)  (-)  (-)   (-)
+rope      0.1438  22.42   1.424e+08|1.586e+08|0.4  5E4|1E6   0   1.2  1.0  0.2   0.0
+---------------------- POINTS ----------------------
+ID  Attachment  X     Y    Z      Mass  Volume  CdA  Ca
+(#) (-)         (m)   (m)  (m)    (kg)  (m^3)   (m^2) (-)
+1   Fixed       0.0   0.0  -50.0  0     0       0    0
+2   Coupled     10.05 0.0  -50.0  0     0       0    0
+3   Fixed       0.0   5.0  -50.0  0     0       0    0
+4   Coupled     20.1  5.0  -50.0  0     0       0    0
+---------------------- LINES ----------------------
+ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#) (name)    (#)      (#)      (m)       (-)      (-)
+1   rope      1        2        10.0      4        -
+2   rope      3        4        20.0      4        -
+---------------------- OPTIONS ----------------------
+0.0              g
+100              WtrDpth
+1025             rho
+0                TmaxIC
+0.05             CFL
+LEuler           tScheme
+--------------------- need this line ----------------------
+"""
+
+
+def test_leuler_keeps_a_skipped_lines_derivative_rows(tmp_path):
+    """Local Euler evaluates into the derivative it carries between steps, and the derivative
+    leaves there the rows of a line not evaluated now: its interior nodes' velocities and
+    accelerations and its line states (here the viscoelastic segments' stretch rates) stay those
+    of its last update (MoorDyn-C's LEuler). Checked step by step on two stretched viscoelastic
+    ropes whose segments differ in length by 2x, at a tenth of the deck's dtM so that both are
+    skipped between updates: on every step, a line not due leaves its rows unchanged bit for bit,
+    and a line due changes them (the fairleads surge, so the derivative moves)."""
+    path = tmp_path / "visco2.txt"
+    path.write_text(VISCO_DECK)
+    model = read_deck(path)
+    s = System(model, scheme="LEuler", dtM=2e-5)
+    x0 = s.deck_coupled_positions()
+    d = np.array([1.0 if lab.endswith("_x") else 0.0 for lab in s.coupled_dof_labels])
+    s.init(x0, np.zeros(x0.size))
+    La = s.layout.lines
+    dims = s.layout.rigid.dims
+    n3, n6 = int(dims[0]), int(dims[1])
+    uoff = 3 * n3 + 7 * n6
+    xo = 6 * n3 + 13 * n6 + int(dims[2])
+    nl = len(s.model.lines)
+    rows = []
+    for li in range(nl):
+        r = [3 * La.node_row[n] + c for n in range(La.node_ptr[li] + 1, La.node_ptr[li + 1] - 1) for c in range(3)]
+        r = r + [uoff + i for i in r]
+        xs = [xo + x for x in La.seg_xs[La.seg_ptr[li]:La.seg_ptr[li + 1]] if x >= 0]
+        assert xs, f"line {li + 1} has no viscoelastic states"
+        rows.append(np.array(r + xs))
+    steps = s.scheme_params[SP_LINES:SP_LINES + nl] / s.dtM
+    assert np.all(steps > 2.0) and not np.isclose(steps[0], steps[1]), steps
+    skipped = due = 0
+    for k in range(400):
+        before = s._S[3].copy()
+        s.step(x0 + 0.2 * d * s.t, 0.2 * d, s.t, s.dtM)
+        since = s.scheme_params[SP_LINES + nl:SP_LINES + 2 * nl]
+        for li in range(nl):
+            if since[li] > 1.0001 * s.dtM:
+                skipped += 1
+                assert np.array_equal(s._S[3][rows[li]], before[rows[li]]), f"step {k}: line {li + 1} not kept"
+            else:
+                due += 1
+                if k > 0:
+                    assert not np.array_equal(s._S[3][rows[li]], before[rows[li]]), f"step {k}: line {li + 1}"
+    assert np.all(np.isfinite(s.y))
+    assert skipped > 300 and due > 20, (skipped, due)

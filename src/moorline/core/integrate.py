@@ -171,15 +171,16 @@ def _moordyn_step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S,
 @kernel(inline="always")
 def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch;
-    for the implicit schemes ``S[3]`` keeps the derivative of the previous step (zero at the
-    start), ``sp`` = [c, M, c0, c1] (spec 5.2).
+    for the implicit schemes and local Euler ``S[3]`` keeps the derivative of the previous step
+    (zero at the start), ``sp`` = [c, M, c0, c1] (spec 5.2).
 
     The stages of Euler, RK2 and RK4 share one call of ``rhs`` (stage s evaluates the derivative
     into ``S[s]``): each call site of ``rhs`` passes some 1,500 machine words of arrays, and
     compiling one instead of four roughly halves the compile time of the time loop.
 
     MoorDyn's local Euler (scheme 7) is Euler with the lines' bookkeeping before and after its one
-    evaluation (:func:`.schemes.leuler_begin`, :func:`.schemes.leuler_end`), so it shares that call
+    evaluation (:func:`.schemes.leuler_begin`, :func:`.schemes.leuler_end`), which it writes into
+    ``S[3]``: there a line not evaluated keeps its rows of its last update. It shares that call
     too: through a scheme function of its own every step passed all the arrays twice more (some
     2,000 machine words per call), a third of the step of a small system."""
     if scheme == 3:
@@ -204,13 +205,14 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
             ts = t + a
         # the stick-slip friction anchors are committed at the first stage of every step
         B.ctl[1] = 1 if s == 0 else 0
-        rhs(ts, ys, S[s], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+        # local Euler evaluates into the row it carries between steps, where a line not due
+        # keeps its rows from its last update
+        rhs(ts, ys, S[3 if scheme == 7 else s], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     if scheme == 7:
-        when(W, MOORDYN_SCHEMES, leuler_end, (S[0], S[3], sp, L.node_ptr, L.node_row, L.seg_ptr, L.seg_xs, L.node_xs,
-                                              L.calc, R.dims))
+        when(W, MOORDYN_SCHEMES, leuler_end, (sp, L.calc))
     if scheme == 0 or scheme == 7:
-        k1 = S[0]
+        k1 = S[3 if scheme == 7 else 0]
         for i in range(y.size):
             y[i] += h * k1[i]
     elif scheme == 1:

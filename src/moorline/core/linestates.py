@@ -396,14 +396,18 @@ def line_state_rates(L, R, W, dy):
     derivative ``dy``. In the implicit scheme's trapezoidal mode and in static solves the states
     are condensed, so their rate in ``dy`` is the one at the condensed value (unused there)."""
     xo = xs_offset(R)
-    for s in range(L.seg_xs.size):
-        x = L.seg_xs[s]
-        if x >= 0:
-            dy[xo + x] = W.seg_sdot[s]
-    for n in range(L.node_xs.size):
-        x = L.node_xs[n]
-        if x >= 0:
-            dy[xo + x] = W.dphi[n]
+    calc = L.calc
+    for li in range(calc.size):
+        if calc[li] == 0:
+            continue  # local Euler: a line not evaluated now keeps its rows of dy
+        for s in range(L.seg_ptr[li], L.seg_ptr[li + 1]):
+            x = L.seg_xs[s]
+            if x >= 0:
+                dy[xo + x] = W.seg_sdot[s]
+        for n in range(L.node_ptr[li], L.node_ptr[li + 1]):
+            x = L.node_xs[n]
+            if x >= 0:
+                dy[xo + x] = W.dphi[n]
 
 
 @derivative_kernel

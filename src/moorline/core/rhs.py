@@ -319,12 +319,31 @@ def rhs(t, y, dy, L, R, P, E, B, Mo, W, F, FW, cd_scale, piece):
 
     n3 = R.dims[0]
     uoff = 3 * n3 + 7 * R.dims[1]
-    for i in range(3 * n3):
-        dy[i] = y[uoff + i]
+    # velocity rows. A line not evaluated now (local Euler) keeps its rows of dy from its last
+    # update: then they are written line by line (the lines' interior nodes come first in the
+    # state, line after line), else in one loop
     calc = L.calc
+    n_line = 0
     for li in range(nl):
         if calc[li] == 0:
-            continue  # local Euler: leuler_end writes this line's rows from its last update
+            n_line = -1
+    if n_line < 0:
+        n_line = 0
+        for li in range(nl):
+            n1 = node_ptr[li] + 1
+            n2 = node_ptr[li + 1] - 1
+            if n2 > n1:
+                o1 = 3 * node_row[n1]
+                o2 = 3 * node_row[n2 - 1] + 3
+                n_line = o2
+                if calc[li] != 0:
+                    for i in range(o1, o2):
+                        dy[i] = y[uoff + i]
+    for i in range(n_line, 3 * n3):
+        dy[i] = y[uoff + i]
+    for li in range(nl):
+        if calc[li] == 0:
+            continue
         for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
             o = uoff + 3 * node_row[n]
             dy[o] = acc[n, 0]

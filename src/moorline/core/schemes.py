@@ -26,7 +26,6 @@ from __future__ import annotations
 import math
 
 from .jit import kernel
-from .linestates import xs_start
 from .rhs import rhs_call
 
 SP_ORDER = 4
@@ -89,25 +88,6 @@ def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
 
 
 @kernel
-def _copy_line_rows(src, dst, li, node_ptr, node_row, seg_ptr, seg_xs, node_xs, n3, uoff, xo):
-    """Copy the derivative rows of line ``li`` (internal nodes, line states) from ``src`` to ``dst``.
-    Takes arrays, not the LineArrays: it runs once per line and step."""
-    for n in range(node_ptr[li] + 1, node_ptr[li + 1] - 1):
-        o = 3 * node_row[n]
-        for c in range(3):
-            dst[o + c] = src[o + c]
-            dst[uoff + o + c] = src[uoff + o + c]
-    for s in range(seg_ptr[li], seg_ptr[li + 1]):
-        x = seg_xs[s]
-        if x >= 0:
-            dst[xo + x] = src[xo + x]
-    for n in range(node_ptr[li], node_ptr[li + 1]):
-        x = node_xs[n]
-        if x >= 0:
-            dst[xo + x] = src[xo + x]
-
-
-@kernel
 def leuler_begin(h, sp, node_ptr, calc):
     """Local-time-step Euler, before its derivative: flag (``calc``) the lines whose update
     interval has elapsed since their last update (all of them at the first step)."""
@@ -125,21 +105,14 @@ def leuler_begin(h, sp, node_ptr, calc):
 
 
 @kernel
-def leuler_end(f, kept, sp, node_ptr, node_row, seg_ptr, seg_xs, node_xs, calc, dims):
-    """Local-time-step Euler, after its derivative ``f``: a line evaluated now keeps its rows of
-    ``f`` (in ``kept``); a line not evaluated takes its rows of its last update from ``kept``
-    (velocities and accelerations alike, as MoorDyn-C does). The Euler update ``y += h f`` follows
-    in the caller. Every line is flagged for evaluation again (what every other caller of the
-    derivative expects)."""
-    n3 = dims[0]
-    uoff = 3 * n3 + 7 * dims[1]
-    xo = xs_start(dims)
-    for li in range(node_ptr.size - 1):
-        if calc[li] != 0:
-            _copy_line_rows(f, kept, li, node_ptr, node_row, seg_ptr, seg_xs, node_xs, n3, uoff, xo)
-        else:
-            _copy_line_rows(kept, f, li, node_ptr, node_row, seg_ptr, seg_xs, node_xs, n3, uoff, xo)
-            calc[li] = 1
+def leuler_end(sp, calc):
+    """Local-time-step Euler, after its derivative: every line is flagged for evaluation again
+    (what every other caller of the derivative expects). The derivative was written into the
+    row the scheme carries (``S[3]``), and the derivative leaves a line not evaluated now its
+    rows there from its last update (velocities and accelerations alike, as MoorDyn-C does), so
+    nothing is copied; the Euler update ``y += h f`` follows in the caller."""
+    for li in range(calc.size):
+        calc[li] = 1
     sp[SP_STEPS] = 1.0
 
 
