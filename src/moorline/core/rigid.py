@@ -297,6 +297,94 @@ def body_point_kinematics(P, W):
 
 
 @derivative_kernel
+def _wet_section(zi, zeta, d, A, sinphi):
+    """Wet area of a rod's cross-section at a node at height ``zi`` (a circle of diameter ``d``
+    and area ``A``, tilted by phi from vertical), the height of its centroid, and the lowest
+    height of the section. Returns (Aw, zc, zlo)."""
+    hs = 0.5 * d * sinphi
+    zhi = zi + hs
+    zlo = zi - hs
+    if zlo > zeta:
+        Aw = 0.0
+        zc = 0.0
+    elif zhi < zeta:
+        Aw = A
+        zc = zi
+    elif sinphi < 0.001:
+        Aw = 0.5 * A  # MoorDyn-C writes 0.5 (m^2) here; half the section is what it means
+        zc = 0.0
+    else:
+        G = (zi - zeta) / sinphi
+        al = math.acos(min(1.0, max(-1.0, 2.0 * G / d)))
+        den = 2.0 * al - math.sin(2.0 * al)
+        Aw = d * d / 8.0 * den
+        zc = zi - 2.0 / 3.0 * d * math.sin(al) ** 3 / den if den > 1e-12 else zi
+    return Aw, zc, zlo
+
+
+@derivative_kernel
+def _axis_dyad(Mq, qx, qy, qz):
+    """Mq = q q^T."""
+    Mq[0, 0] = qx * qx
+    Mq[0, 1] = qx * qy
+    Mq[0, 2] = qx * qz
+    Mq[1, 0] = qy * qx
+    Mq[1, 1] = qy * qy
+    Mq[1, 2] = qy * qz
+    Mq[2, 0] = qz * qx
+    Mq[2, 1] = qz * qy
+    Mq[2, 2] = qz * qz
+
+
+@derivative_kernel
+def _rod_end_effects(F, Mi, Mq, i, N, vof, A, rho, g, zc, d, sinphi, sb, cb, uq, aq, CdEnd, CaEnd, Vh, pdn, qx, qy,
+                     qz, mx, my):
+    """End effects of a rod at its node ``i`` of 0..N (end A, s = +1, at node 0; end B, s = -1, at
+    node N; both at the one node of a zero-length rod), for a submerged section: the buoyancy of
+    the end face and its moment, axial drag and added mass of the end, the wave's dynamic pressure
+    on it. Added into the node's load rows ``F`` and mass ``Mi``; returns the moment (mx, my)."""
+    for e in range(2):
+        if (e == 0 and i != 0) or (e == 1 and i != N):
+            continue
+        s = 1.0 if e == 0 else -1.0
+        fb = -s * vof * A * rho * g * zc
+        F[1, 0] += fb * qx
+        F[1, 1] += fb * qy
+        F[1, 2] += fb * qz
+        mb = -s * vof * (math.pi * d ** 4 / 64.0) * rho * g * sinphi
+        mx += mb * sb
+        my -= mb * cb
+        uqm = abs(uq)
+        cdq = 0.5 * vof * A * rho * CdEnd * uqm * uq
+        F[3, 0] += cdq * qx
+        F[3, 1] += cdq * qy
+        F[3, 2] += cdq * qz
+        caq = vof * rho * CaEnd * Vh * aq
+        F[5, 0] += caq * qx
+        F[5, 1] += caq * qy
+        F[5, 2] += caq * qz
+        pd = s * vof * A * pdn
+        F[6, 0] += pd * qx
+        F[6, 1] += pd * qy
+        F[6, 2] += pd * qz
+        mae = vof * rho * CaEnd * Vh
+        for a in range(3):
+            for c in range(3):
+                Mi[a, c] += mae * Mq[a, c]
+    return mx, my
+
+
+@derivative_kernel
+def _total_load(F):
+    """Row 8 of a rod node's loads: the sum of rows 0-7."""
+    for c in range(3):
+        tot = 0.0
+        for a in range(8):
+            tot += F[a, c]
+        F[8, c] = tot
+
+
+@derivative_kernel
 def rod_loads(R, E, B, W, cd_scale):
     """Node loads of every rod (spec 3.14.2, with end effects and partial submergence), the line
     end forces and masses at its end nodes, and the 6x6 sums about end A (spec 3.14.3) into
@@ -371,131 +459,102 @@ def rod_loads(R, E, B, W, cd_scale):
         mx = rodMext[k, 0]
         my = rodMext[k, 1]
         mz = rodMext[k, 2]
-        S = 0.0
-        for i in range(N + 1):
-            n = n0 + i
-            dL = (0.5 * lseg if (i == 0 or i == N) else lseg) if N > 0 else 0.0
-            mi = w * dL
-            vi = A * dL
+        if N == 0:
+            # a zero-length rod: one node without length, mass or volume of its own (no weight,
+            # buoyancy, drag, added mass or seabed contact along it), with both ends' effects;
+            # the same arithmetic as the general path less its terms that are exactly zero
+            n = n0
             zi = rn_r[n, 2]
-            # axial wet fraction
-            if dL > 0.0:
-                if h0 >= 0.0:
-                    vof0 = 1.0 if S + dL <= h0 else ((h0 - S) / dL if S < h0 else 0.0)
-                else:
-                    vof0 = 1.0 if S >= -h0 else ((S + dL + h0) / dL if S + dL > -h0 else 0.0)
-            else:
-                vof0 = 1.0 if zi < zeta else 0.0
-            S += dL
-            # cross-section wet area and its centroid height
-            hs = 0.5 * d * sinphi
-            zhi = zi + hs
-            zlo = zi - hs
-            if zlo > zeta:
-                Aw = 0.0
-                zc = 0.0
-            elif zhi < zeta:
-                Aw = A
-                zc = zi
-            elif sinphi < 0.001:
-                Aw = 0.5 * A  # MoorDyn-C writes 0.5 (m^2) here; half the section is what it means
-                zc = 0.0
-            else:
-                G = (zi - zeta) / sinphi
-                al = math.acos(min(1.0, max(-1.0, 2.0 * G / d)))
-                den = 2.0 * al - math.sin(2.0 * al)
-                Aw = d * d / 8.0 * den
-                zc = zi - 2.0 / 3.0 * d * math.sin(al) ** 3 / den if den > 1e-12 else zi
-            vof = vof0 * cosphi * cosphi + (Aw / A) * sinphi * sinphi
+            Aw, zc, zlo = _wet_section(zi, zeta, d, A, sinphi)
+            vof = (1.0 if zi < zeta else 0.0) * cosphi * cosphi + (Aw / A) * sinphi * sinphi
             rn_vof[n] = vof
-            # relative flow, split along and across the axis
-            ux = rn_U[n, 0] - rn_v[n, 0]
-            uy = rn_U[n, 1] - rn_v[n, 1]
-            uz = rn_U[n, 2] - rn_v[n, 2]
-            uq = ux * qx + uy * qy + uz * qz
-            upx = ux - uq * qx
-            upy = uy - uq * qy
-            upz = uz - uq * qz
-            upm = math.sqrt(upx * upx + upy * upy + upz * upz)
-            adx = rn_Ud[n, 0]
-            ady = rn_Ud[n, 1]
-            adz = rn_Ud[n, 2]
-            aq = adx * qx + ady * qy + adz * qz
-            apx = adx - aq * qx
-            apy = ady - aq * qy
-            apz = adz - aq * qz
             F = rn_F[n]
+            Mi = rn_M[n]
             for a in range(9):
                 for c in range(3):
                     F[a, c] = 0.0
-            # weight and the transverse part of buoyancy
-            F[0, 2] = -mi * g
-            bb = -vof * vi * rho * g * sinphi
-            F[1, 0] = bb * cb * cosphi
-            F[1, 1] = bb * sb * cosphi
-            F[1, 2] = -bb * sinphi
-            cdp = vof * 0.5 * rho * Cd * d * dL * upm
-            F[2, 0] = cdp * upx
-            F[2, 1] = cdp * upy
-            F[2, 2] = cdp * upz
-            cap = vof * rho * (1.0 + Ca) * vi
-            F[4, 0] = cap * apx
-            F[4, 1] = cap * apy
-            F[4, 2] = cap * apz
-            # mass: m I + vof rho v Ca (I - q q^T)
-            Mi = rn_M[n]
-            ma = vof * rho * vi * Ca
-            Mq[0, 0] = qx * qx
-            Mq[0, 1] = qx * qy
-            Mq[0, 2] = qx * qz
-            Mq[1, 0] = qy * qx
-            Mq[1, 1] = qy * qy
-            Mq[1, 2] = qy * qz
-            Mq[2, 0] = qz * qx
-            Mq[2, 1] = qz * qy
-            Mq[2, 2] = qz * qz
             for a in range(3):
                 for c in range(3):
-                    Mi[a, c] = -ma * Mq[a, c]
-                Mi[a, a] += mi + ma
-            # seabed: vertical contact only (spec 3.14.2)
-            zb = seabed_at(gx, gy, gz, E.depth, rn_r[n, 0], rn_r[n, 1])[0]
-            if zi < zb and dL > 0.0:
-                F[7, 2] = ((zb - zi) * E.kBot - rn_v[n, 2] * E.cBot * _ramp(zb - zi, E.bed_ramp)) * d * dL
-            # end effects: end A (s = +1) at node 0, end B (s = -1) at node N
-            for e in range(2):
-                if (e == 0 and i != 0) or (e == 1 and i != N) or not zlo < zeta:
-                    continue
-                s = 1.0 if e == 0 else -1.0
-                fb = -s * vof * A * rho * g * zc
-                F[1, 0] += fb * qx
-                F[1, 1] += fb * qy
-                F[1, 2] += fb * qz
-                mb = -s * vof * (math.pi * d ** 4 / 64.0) * rho * g * sinphi
-                mx += mb * sb
-                my -= mb * cb
-                uqm = abs(uq)
-                cdq = 0.5 * vof * A * rho * CdEnd * uqm * uq
-                F[3, 0] += cdq * qx
-                F[3, 1] += cdq * qy
-                F[3, 2] += cdq * qz
-                caq = vof * rho * CaEnd * Vh * aq
-                F[5, 0] += caq * qx
-                F[5, 1] += caq * qy
-                F[5, 2] += caq * qz
-                pd = s * vof * A * rn_pd[n]
-                F[6, 0] += pd * qx
-                F[6, 1] += pd * qy
-                F[6, 2] += pd * qz
-                mae = vof * rho * CaEnd * Vh
+                    Mi[a, c] = 0.0
+            _axis_dyad(Mq, qx, qy, qz)
+            if zlo < zeta:
+                uq = ((rn_U[n, 0] - rn_v[n, 0]) * qx + (rn_U[n, 1] - rn_v[n, 1]) * qy
+                      + (rn_U[n, 2] - rn_v[n, 2]) * qz)
+                aq = rn_Ud[n, 0] * qx + rn_Ud[n, 1] * qy + rn_Ud[n, 2] * qz
+                mx, my = _rod_end_effects(F, Mi, Mq, 0, 0, vof, A, rho, g, zc, d, sinphi, sb, cb, uq, aq, CdEnd,
+                                          CaEnd, Vh, rn_pd[n], qx, qy, qz, mx, my)
+            _total_load(F)
+        else:
+            S = 0.0
+            for i in range(N + 1):
+                n = n0 + i
+                dL = (0.5 * lseg if (i == 0 or i == N) else lseg) if N > 0 else 0.0
+                mi = w * dL
+                vi = A * dL
+                zi = rn_r[n, 2]
+                # axial wet fraction
+                if dL > 0.0:
+                    if h0 >= 0.0:
+                        vof0 = 1.0 if S + dL <= h0 else ((h0 - S) / dL if S < h0 else 0.0)
+                    else:
+                        vof0 = 1.0 if S >= -h0 else ((S + dL + h0) / dL if S + dL > -h0 else 0.0)
+                else:
+                    vof0 = 1.0 if zi < zeta else 0.0
+                S += dL
+                Aw, zc, zlo = _wet_section(zi, zeta, d, A, sinphi)
+                vof = vof0 * cosphi * cosphi + (Aw / A) * sinphi * sinphi
+                rn_vof[n] = vof
+                # relative flow, split along and across the axis
+                ux = rn_U[n, 0] - rn_v[n, 0]
+                uy = rn_U[n, 1] - rn_v[n, 1]
+                uz = rn_U[n, 2] - rn_v[n, 2]
+                uq = ux * qx + uy * qy + uz * qz
+                upx = ux - uq * qx
+                upy = uy - uq * qy
+                upz = uz - uq * qz
+                upm = math.sqrt(upx * upx + upy * upy + upz * upz)
+                adx = rn_Ud[n, 0]
+                ady = rn_Ud[n, 1]
+                adz = rn_Ud[n, 2]
+                aq = adx * qx + ady * qy + adz * qz
+                apx = adx - aq * qx
+                apy = ady - aq * qy
+                apz = adz - aq * qz
+                F = rn_F[n]
+                for a in range(9):
+                    for c in range(3):
+                        F[a, c] = 0.0
+                # weight and the transverse part of buoyancy
+                F[0, 2] = -mi * g
+                bb = -vof * vi * rho * g * sinphi
+                F[1, 0] = bb * cb * cosphi
+                F[1, 1] = bb * sb * cosphi
+                F[1, 2] = -bb * sinphi
+                cdp = vof * 0.5 * rho * Cd * d * dL * upm
+                F[2, 0] = cdp * upx
+                F[2, 1] = cdp * upy
+                F[2, 2] = cdp * upz
+                cap = vof * rho * (1.0 + Ca) * vi
+                F[4, 0] = cap * apx
+                F[4, 1] = cap * apy
+                F[4, 2] = cap * apz
+                # mass: m I + vof rho v Ca (I - q q^T)
+                Mi = rn_M[n]
+                ma = vof * rho * vi * Ca
+                _axis_dyad(Mq, qx, qy, qz)
                 for a in range(3):
                     for c in range(3):
-                        Mi[a, c] += mae * Mq[a, c]
-            for c in range(3):
-                tot = 0.0
-                for a in range(8):
-                    tot += F[a, c]
-                F[8, c] = tot
+                        Mi[a, c] = -ma * Mq[a, c]
+                    Mi[a, a] += mi + ma
+                # seabed: vertical contact only (spec 3.14.2)
+                zb = seabed_at(gx, gy, gz, E.depth, rn_r[n, 0], rn_r[n, 1])[0]
+                if zi < zb and dL > 0.0:
+                    F[7, 2] = ((zb - zi) * E.kBot - rn_v[n, 2] * E.cBot * _ramp(zb - zi, E.bed_ramp)) * d * dL
+                # end effects: end A (s = +1) at node 0, end B (s = -1) at node N
+                if zlo < zeta and (i == 0 or i == N):
+                    mx, my = _rod_end_effects(F, Mi, Mq, i, N, vof, A, rho, g, zc, d, sinphi, sb, cb, uq, aq, CdEnd,
+                                              CaEnd, Vh, rn_pd[n], qx, qy, qz, mx, my)
+                _total_load(F)
         if zA < zeta < zB:
             mw = (math.pi * d ** 4 / 16.0) * rho * g * sinphi * cosphi
             mx += mw * sb
