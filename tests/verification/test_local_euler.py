@@ -182,16 +182,16 @@ def test_leuler_keeps_a_skipped_lines_derivative_rows(tmp_path):
     assert np.all(steps > 2.0) and not np.isclose(steps[0], steps[1]), steps
     skipped = due = 0
     for k in range(400):
-        before = s._S[3].copy()
+        before = s._S[0].copy()
         s.step(x0 + 0.2 * d * s.t, 0.2 * d, s.t, s.dtM)
         since = s.scheme_params[SP_LINES + nl:SP_LINES + 2 * nl]
         for li in range(nl):
             if since[li] > 1.0001 * s.dtM:
                 skipped += 1
-                assert np.array_equal(s._S[3][rows[li]], before[rows[li]]), f"step {k}: line {li + 1} not kept"
+                assert np.array_equal(s._S[0][rows[li]], before[rows[li]]), f"step {k}: line {li + 1} not kept"
             else:
                 due += 1
                 if k > 0:
-                    assert not np.array_equal(s._S[3][rows[li]], before[rows[li]]), f"step {k}: line {li + 1}"
+                    assert not np.array_equal(s._S[0][rows[li]], before[rows[li]]), f"step {k}: line {li + 1}"
     assert np.all(np.isfinite(s.y))
     assert skipped > 300 and due > 20, (skipped, due)

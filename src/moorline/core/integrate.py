@@ -171,17 +171,18 @@ def _moordyn_step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S,
 @kernel(inline="always")
 def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     """One step of length ``h`` in place, on trajectory piece ``piece``. ``S``: (5, n) scratch;
-    for the implicit schemes and local Euler ``S[3]`` keeps the derivative of the previous step
-    (zero at the start), ``sp`` = [c, M, c0, c1] (spec 5.2).
+    for the implicit schemes ``S[3]`` keeps the derivative of the previous step (zero at the
+    start), for local Euler ``S[0]``; ``S[4]`` is scratch (the stages' input state, and the time
+    loop's final evaluation); ``sp`` = [c, M, c0, c1] (spec 5.2).
 
     The stages of Euler, RK2 and RK4 share one call of ``rhs`` (stage s evaluates the derivative
     into ``S[s]``): each call site of ``rhs`` passes some 1,500 machine words of arrays, and
     compiling one instead of four roughly halves the compile time of the time loop.
 
     MoorDyn's local Euler (scheme 7) is Euler with the lines' bookkeeping before and after its one
-    evaluation (:func:`.schemes.leuler_begin`, :func:`.schemes.leuler_end`), which it writes into
-    ``S[3]``: there a line not evaluated keeps its rows of its last update. It shares that call
-    too: through a scheme function of its own every step passed all the arrays twice more (some
+    evaluation (:func:`.schemes.leuler_begin`, :func:`.schemes.leuler_end`); it writes into
+    ``S[0]`` as Euler does, and there a line not evaluated keeps its rows of its last update, so
+    nothing else writes ``S[0]`` between steps. It shares that call too: through a scheme function of its own every step passed all the arrays twice more (some
     2,000 machine words per call), a third of the step of a small system."""
     if scheme == 3:
         when(W, FIXED_POINT, _implicit_step, (y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece))
@@ -205,14 +206,12 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
             ts = t + a
         # the stick-slip friction anchors are committed at the first stage of every step
         B.ctl[1] = 1 if s == 0 else 0
-        # local Euler evaluates into the row it carries between steps, where a line not due
-        # keeps its rows from its last update
-        rhs(ts, ys, S[3 if scheme == 7 else s], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+        rhs(ts, ys, S[s], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     B.ctl[1] = 0
     if scheme == 7:
         when(W, MOORDYN_SCHEMES, leuler_end, (sp, L.calc))
     if scheme == 0 or scheme == 7:
-        k1 = S[3 if scheme == 7 else 0]
+        k1 = S[0]
         for i in range(y.size):
             y[i] += h * k1[i]
     elif scheme == 1:
@@ -404,7 +403,8 @@ def advance(y, t, t_end, dtM, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale,
         last_stage_keep(False, W.kept, L.xs_ctl, piece, viv, W.T, W.Td, W.seg_len, W.seg_ldot, W.F, W.Fhyd, W.Fbed,
                         W.W, W.kurv, W.pF, W.pa, W.acc)
     if final_eval != FINAL_NONE:
-        rhs_call(t, y, S[0], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
+        # into S[4], the scratch row: local Euler carries S[0] from step to step
+        rhs_call(t, y, S[4], L, R, P, E, B, Mo, W, F, FW, cd_scale, piece)
     if final_eval == FINAL_LAST_STAGE:
         last_stage_keep(True, W.kept, L.xs_ctl, piece, viv, W.T, W.Td, W.seg_len, W.seg_ldot, W.F, W.Fhyd, W.Fbed,
                         W.W, W.kurv, W.pF, W.pa, W.acc)

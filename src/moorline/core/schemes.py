@@ -18,7 +18,7 @@ v2.7 takes them, so a deck that names one runs the same algorithm here:
 The scheme parameters ``sp`` (see :func:`moorline.core.integrate.parse_scheme`):
 [c, M, c0, c1, AB order, steps taken, gamma or theta, beta, then for LEuler the update interval
 of every line followed by the time since its last update]. ``S`` is (5, n) scratch; ``S[3]``
-holds the derivative the scheme carries between steps (zero at the start).
+holds the derivative the scheme carries between steps (zero at the start), ``S[0]`` for LEuler.
 """
 
 from __future__ import annotations
@@ -57,8 +57,8 @@ def heun_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
 
 @kernel(inline="always")
 def ab_step(y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
-    # the past derivatives live in S[1..3] (newest first), the new one in S[4]: S[0] is the time
-    # loop's scratch for its final evaluation
+    # the past derivatives live in S[1..3] (newest first), the new one in S[4] (scratch between
+    # steps, where the time loop's final evaluation also goes)
     order = int(sp[SP_ORDER])
     n = int(sp[SP_STEPS])
     f0 = S[4]
@@ -108,7 +108,7 @@ def leuler_begin(h, sp, node_ptr, calc):
 def leuler_end(sp, calc):
     """Local-time-step Euler, after its derivative: every line is flagged for evaluation again
     (what every other caller of the derivative expects). The derivative was written into the
-    row the scheme carries (``S[3]``), and the derivative leaves a line not evaluated now its
+    row the scheme carries (``S[0]``), and the derivative leaves a line not evaluated now its
     rows there from its last update (velocities and accelerations alike, as MoorDyn-C does), so
     nothing is copied; the Euler update ``y += h f`` follows in the caller."""
     for li in range(calc.size):
