@@ -21,7 +21,10 @@ a step (those of the last stage, as ``moorline.moordyn`` does; the default is mo
 loads at the state reached, one evaluation more per call).
 
 Reported per deck: nodes, scheme, dtM, the wall time of the three runs (median of ``--repeat``),
-node-steps per second (of the compiled loop) and the ratios moorline / MoorDyn measured side by side in one process, and
+node-steps per second (of the compiled loop) and the ratios moorline / MoorDyn measured side by side in one process
+(the runs are interleaved, ``step()``, compiled loop, MoorDyn, ``--repeat`` times, and a ratio is
+the median of the rounds' ratios: this virtual machine's speed drifts by up to 1.8x over minutes,
+and a ratio of medians taken minutes apart followed the drift), and
 the largest difference of the final coupled forces relative to MoorDyn's largest (a check that
 both ran the same problem). Times are the process's CPU time (``time.process_time``): both codes
 run single-threaded in this one process, so on an idle machine it equals their wall time, and on a
@@ -136,29 +139,28 @@ def main(argv=None) -> int:
         if not deck.exists():
             continue
         try:
-            res = {}
-            for mode in ("step", "advance"):
-                walls = []
-                for _ in range(a.repeat):
-                    w, nodes, f, s = run_moorline(deck, a.duration, a.dt, mode, a.loads_at)
-                    walls.append(w)
-                res[mode] = (statistics.median(walls), f)
-            labels = s.coupled_dof_labels
-            walls = []
+            walls = {"step": [], "advance": [], "moordyn": []}
             for _ in range(a.repeat):
-                w, nodes_md, f_md = run_moordyn(deck, lambda X0, lab=labels: surge_of(lab, X0), a.duration, a.dt,
-                                                x0=_x0[deck], clock=time.process_time, precompute=True)
-                walls.append(w)
-            md_wall = statistics.median(walls)
+                for mode in ("step", "advance"):
+                    w, nodes, f, s = run_moorline(deck, a.duration, a.dt, mode, a.loads_at)
+                    walls[mode].append(w)
+                    if mode == "step":
+                        f_step = f
+                w, nodes_md, f_md = run_moordyn(deck, lambda X0, lab=s.coupled_dof_labels: surge_of(lab, X0),
+                                                a.duration, a.dt, x0=_x0[deck], clock=time.process_time,
+                                                precompute=True)
+                walls["moordyn"].append(w)
         except Exception as exc:  # a deck one of the codes cannot run: say so and go on
             print(f"{label}: not timed ({type(exc).__name__}: {exc})")
             continue
+        med = {k: statistics.median(v) for k, v in walls.items()}
+        ratio = {k: statistics.median([w / m for w, m in zip(walls[k], walls["moordyn"], strict=True)])
+                 for k in ("step", "advance")}
         steps = a.duration / s.dtM
-        f = res["step"][1]
-        diff = float(np.max(np.abs(f - f_md)) / max(np.max(np.abs(f_md)), 1e-300)) if f.size else 0.0
-        row = (f"| {label} | {nodes} | {s.scheme_label} | {s.dtM:.3g} | {md_wall:.3f} | {res['step'][0]:.3f} | "
-               f"{res['step'][0] / md_wall:.2f} | {res['advance'][0]:.3f} | {res['advance'][0] / md_wall:.2f} | "
-               f"{nodes * steps / res['advance'][0]:.3g} | {nodes_md * steps / md_wall:.3g} | {diff:.1e} |")
+        diff = float(np.max(np.abs(f_step - f_md)) / max(np.max(np.abs(f_md)), 1e-300)) if f_step.size else 0.0
+        row = (f"| {label} | {nodes} | {s.scheme_label} | {s.dtM:.3g} | {med['moordyn']:.3f} | {med['step']:.3f} | "
+               f"{ratio['step']:.2f} | {med['advance']:.3f} | {ratio['advance']:.2f} | "
+               f"{nodes * steps / med['advance']:.3g} | {nodes_md * steps / med['moordyn']:.3g} | {diff:.1e} |")
         print(row, flush=True)
         rows.append(row)
     finish_table(rows, a.out)
