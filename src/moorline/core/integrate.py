@@ -182,8 +182,9 @@ def step(y, t, h, scheme, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece):
     MoorDyn's local Euler (scheme 7) is Euler with the lines' bookkeeping before and after its one
     evaluation (:func:`.schemes.leuler_begin`, :func:`.schemes.leuler_end`); it writes into
     ``S[0]`` as Euler does, and there a line not evaluated keeps its rows of its last update, so
-    nothing else writes ``S[0]`` between steps. It shares that call too: through a scheme function of its own every step passed all the arrays twice more (some
-    2,000 machine words per call), a third of the step of a small system."""
+    nothing else writes ``S[0]`` between steps. It shares that call too: through a scheme
+    function of its own every step passed all the arrays twice more (some 2,000 machine words per
+    call), a third of the step of a small system."""
     if scheme == 3:
         when(W, FIXED_POINT, _implicit_step, (y, t, h, sp, L, R, P, E, B, Mo, W, F, FW, cd_scale, S, piece))
         return
