@@ -14,6 +14,7 @@ import json
 import logging
 import os
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -231,14 +232,26 @@ def load_mesh(path, *, name=None):
     if path.suffix.lower() == ".gdf":
         verts, faces = read_gdf(path)
     else:
-        import meshio
-        m = meshio.read(path)
+        m = meshio_read(path)
         verts = np.asarray(m.points, dtype=float)[:, :3]
         cells = [c.data for c in m.cells if c.type in ("triangle", "quad")]
         if not cells:
             raise ValueError(f"{path}: no triangle or quad cells")
         faces = [list(f) for c in cells for f in c]
     return cpt.Mesh(vertices=verts, faces=faces, name=name or path.stem)
+
+
+def meshio_read(path):
+    """``meshio.read(path)``, without the RuntimeWarning ("overflow encountered in scalar multiply")
+    that meshio's STL reader gives on every ASCII STL. It tells a binary file from a text one by
+    taking bytes 80-83 as a uint32 triangle count n and comparing 84 + 50 n with the file's size;
+    on text that product overflows, the sizes differ, and it reads the file as text, correctly."""
+    import meshio
+
+    with warnings.catch_warnings():
+        if Path(path).suffix.lower() == ".stl":
+            warnings.filterwarnings("ignore", "overflow encountered in scalar multiply", RuntimeWarning)
+        return meshio.read(path)
 
 
 def read_gdf(path):
